@@ -1,0 +1,80 @@
+#include "geometry_input.h"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include <octomap/OcTree.h>
+#include <pcl/common/io.h>
+#include <pcl/filters/filter.h>
+#include <pcl/point_cloud.h>
+#include <pcl/point_types.h>
+
+#include <plantnbv/common/error.h>
+#include <plantnbv/filters/voxel_grid_filter.h>
+#include <plantnbv/io/cloud_io.h>
+#include <plantnbv/io/file_kind.h>
+#include <plantnbv/io/mesh_io.h>
+#include <plantnbv/octree/octree_conversion.h>
+#include <plantnbv/sampling/mesh_sampler.h>
+
+namespace plantnbv {
+namespace app {
+
+std::size_t defaultMeshPoints(double area_m2, double resolution)
+{
+  const double n = std::ceil(8.0 * area_m2 / (resolution * resolution));
+  return static_cast<std::size_t>(std::clamp(n, 1e4, 2e7));
+}
+
+void loadGeometryAsCloud(const std::string& path, const std::string& what,
+                         const GeometryInputOptions& options, CloudXYZ& cloud,
+                         std::string& summary)
+{
+  std::ostringstream s;
+  switch (io::fileKind(path)) {
+  case io::FileKind::cloud: {
+    CloudXYZ raw;
+    io::loadCloud(path, raw);
+    pcl::Indices finite;
+    pcl::removeNaNFromPointCloud(raw, cloud, finite);
+    s << "cloud, " << raw.size() << " points";
+    if (cloud.size() != raw.size())
+      s << " (" << raw.size() - cloud.size() << " non-finite dropped)";
+    if (cloud.empty())
+      throw FormatError(what + " '" + path + "' holds no finite point");
+    break;
+  }
+  case io::FileKind::mesh: {
+    auto mesh = std::make_shared<TriangleMesh>(io::loadMesh(path));
+    MeshSampler sampler;
+    sampler.setInputMesh(mesh);
+    const std::size_t n =
+        options.mesh_points
+            ? options.mesh_points
+            : defaultMeshPoints(sampler.getSurfaceArea(), options.resolution);
+    sampler.setNumberOfPoints(n);
+    sampler.setSeed(options.seed);
+    auto samples = std::make_shared<CloudXYZ>();
+    sampler.sample(*samples);
+    VoxelGridFilter<pcl::PointXYZ> voxel_grid;
+    voxel_grid.setLeafSize(options.resolution);
+    voxel_grid.setInputCloud(samples);
+    voxel_grid.filter(cloud);
+    s << "mesh, " << mesh->size() << " triangles, " << n << " samples, " << cloud.size()
+      << " voxels of " << options.resolution << " m";
+    break;
+  }
+  case io::FileKind::octree: {
+    const auto tree = readOcTree(path);
+    occupiedVoxelCentres(*tree, cloud);
+    s << "octree at " << tree->getResolution() << " m, " << cloud.size()
+      << " occupied voxels";
+    break;
+  }
+  }
+  summary = s.str();
+}
+
+} // namespace app
+} // namespace plantnbv

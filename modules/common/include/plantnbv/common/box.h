@@ -1,0 +1,56 @@
+#pragma once
+/// \file box.h
+/// \brief Axis-aligned boxes and regions of interest (the paper's attention ROIs,
+/// section 2.3: each cuboid is given by its centre and the lengths of its sides).
+
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+namespace plantnbv {
+
+/// \brief An axis-aligned cuboid in the world frame, given by centre and size (metres).
+/// A point on a face is inside (closed box).
+struct Box {
+  Eigen::Vector3d center{Eigen::Vector3d::Zero()};
+  Eigen::Vector3d size{Eigen::Vector3d::Zero()};
+  std::string name; ///< optional, e.g. "leaf_node_3"
+
+  Box() = default;
+  /// \throws InvalidArgumentError if a size is negative or a value is not finite.
+  Box(const Eigen::Vector3d& center, const Eigen::Vector3d& size, std::string name = "");
+  /// \brief The box spanning [min, max]. \throws InvalidArgumentError if min > max.
+  static Box fromMinMax(const Eigen::Vector3d& min, const Eigen::Vector3d& max,
+                        std::string name = "");
+
+  Eigen::Vector3d min() const { return center - 0.5 * size; }
+  Eigen::Vector3d max() const { return center + 0.5 * size; }
+  double volume() const { return size.prod(); }
+
+  bool contains(const Eigen::Vector3d& p) const;
+  bool contains(float x, float y, float z) const;
+};
+
+/// \brief A region of interest: a union of boxes. An empty ROI contains nothing.
+class Roi {
+public:
+  Roi() = default;
+  explicit Roi(std::vector<Box> boxes);
+
+  void addBox(const Box& box);
+  const std::vector<Box>& boxes() const { return boxes_; }
+  bool empty() const { return boxes_.empty(); }
+  std::size_t size() const { return boxes_.size(); }
+
+  /// \brief True if any box contains the point.
+  bool contains(const Eigen::Vector3d& p) const;
+  bool contains(float x, float y, float z) const;
+  /// \brief The smallest box holding all boxes. \throws InvalidArgumentError when empty.
+  Box boundingBox() const;
+
+private:
+  std::vector<Box> boxes_;
+};
+
+} // namespace plantnbv

@@ -1,0 +1,21 @@
+#pragma once
+/// \file pcl_fwd.h
+/// \brief Forward declarations of the PCL types our public headers name, so that users
+/// of those headers do not compile PCL's (heavy) headers. Include <pcl/point_types.h>
+/// and <pcl/point_cloud.h> in the .cpp that fills or reads a cloud.
+
+#include <memory>
+
+namespace pcl {
+struct PointXYZ;
+struct PointXYZL;
+template <typename PointT>
+class PointCloud;
+} // namespace pcl
+
+namespace plantnbv {
+using CloudXYZ = pcl::PointCloud<pcl::PointXYZ>;
+using CloudXYZL = pcl::PointCloud<pcl::PointXYZL>;
+using CloudXYZConstPtr = std::shared_ptr<const CloudXYZ>;
+using CloudXYZLConstPtr = std::shared_ptr<const CloudXYZL>;
+} // namespace plantnbv

@@ -1,0 +1,34 @@
+#pragma once
+/// \file pose.h
+/// \brief Rigid poses. Frames and units follow docs/conventions in DESIGN.md: metres,
+/// world frame x forward from the robot base and z up. A `Viewpoint` is the camera body
+/// frame (x forward, y left, z up), as the paper's Table 1 gives v0; the optical frame
+/// (z forward) is derived inside the sensor.
+
+#include <Eigen/Geometry>
+
+namespace plantnbv {
+
+/// \brief A rigid transform given as position + unit quaternion, e.g. T_W_C (camera in
+/// world). Construction normalises the quaternion.
+struct Pose {
+  Eigen::Vector3d position{Eigen::Vector3d::Zero()};
+  Eigen::Quaterniond orientation{Eigen::Quaterniond::Identity()};
+
+  Pose() = default;
+  /// \throws InvalidArgumentError on non-finite values or a zero quaternion.
+  Pose(const Eigen::Vector3d& position, const Eigen::Quaterniond& orientation);
+  /// \brief From x, y, z and a quaternion given as qx, qy, qz, qw (ROS order).
+  static Pose fromXyzQuat(double x, double y, double z, double qx, double qy, double qz,
+                          double qw);
+  static Pose fromIsometry(const Eigen::Isometry3d& T);
+
+  Eigen::Isometry3d toIsometry() const;
+  /// \brief The body x axis (the viewing direction of a Viewpoint) in the parent frame.
+  Eigen::Vector3d forward() const { return orientation * Eigen::Vector3d::UnitX(); }
+};
+
+/// \brief A camera viewpoint: the pose of the camera body frame in the world.
+using Viewpoint = Pose;
+
+} // namespace plantnbv

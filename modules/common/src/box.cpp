@@ -1,0 +1,79 @@
+#include <sstream>
+
+#include <plantnbv/common/box.h>
+#include <plantnbv/common/error.h>
+
+namespace plantnbv {
+
+namespace {
+std::string str(const Eigen::Vector3d& v)
+{
+  std::ostringstream s;
+  s << "(" << v.x() << ", " << v.y() << ", " << v.z() << ")";
+  return s.str();
+}
+} // namespace
+
+Box::Box(const Eigen::Vector3d& c, const Eigen::Vector3d& s, std::string n)
+    : center(c), size(s), name(std::move(n))
+{
+  if (!center.allFinite() || !size.allFinite())
+    throw InvalidArgumentError("box '" + name + "': centre " + str(center) +
+                               " and size " + str(size) + " must be finite");
+  if ((size.array() < 0.0).any())
+    throw InvalidArgumentError("box '" + name + "': size " + str(size) +
+                               " must not be negative");
+}
+
+Box Box::fromMinMax(const Eigen::Vector3d& min, const Eigen::Vector3d& max,
+                    std::string name)
+{
+  if ((max.array() < min.array()).any())
+    throw InvalidArgumentError("box '" + name + "': min " + str(min) + " exceeds max " +
+                               str(max));
+  return Box(0.5 * (min + max), max - min, std::move(name));
+}
+
+bool Box::contains(const Eigen::Vector3d& p) const
+{
+  return ((p - center).cwiseAbs().array() <= 0.5 * size.array()).all();
+}
+
+bool Box::contains(float x, float y, float z) const
+{
+  return contains(Eigen::Vector3d(x, y, z));
+}
+
+Roi::Roi(std::vector<Box> boxes) : boxes_(std::move(boxes)) {}
+
+void Roi::addBox(const Box& box)
+{
+  boxes_.push_back(box);
+}
+
+bool Roi::contains(const Eigen::Vector3d& p) const
+{
+  for (const Box& b : boxes_)
+    if (b.contains(p))
+      return true;
+  return false;
+}
+
+bool Roi::contains(float x, float y, float z) const
+{
+  return contains(Eigen::Vector3d(x, y, z));
+}
+
+Box Roi::boundingBox() const
+{
+  if (boxes_.empty())
+    throw InvalidArgumentError("the bounding box of an empty ROI is undefined");
+  Eigen::Vector3d lo = boxes_.front().min(), hi = boxes_.front().max();
+  for (const Box& b : boxes_) {
+    lo = lo.cwiseMin(b.min());
+    hi = hi.cwiseMax(b.max());
+  }
+  return Box::fromMinMax(lo, hi, "bounding_box");
+}
+
+} // namespace plantnbv

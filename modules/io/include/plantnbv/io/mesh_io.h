@@ -1,0 +1,75 @@
+#pragma once
+/// \file mesh_io.h
+/// \brief Reading triangle meshes into `TriangleMesh` (metres, Z up) and writing them as
+/// binary PLY with a per-face `label`.
+///
+/// Formats: PLY (our own reader: it keeps a face `label` property, which Assimp drops),
+/// OBJ, STL and Collada .dae (Assimp 5.2), VRML97 .wrl/.vrml (our own reader: VTK 9.1's
+/// vtkVRMLImporter ignores Transform rotations, and Debian's Assimp 5.2 cannot read
+/// VRML). Polygons are triangulated as fans; points and lines are ignored.
+///
+/// Units: Collada's `<unit meter="...">` is honoured (applied once: Assimp's own unit
+/// scale on the root node is replaced by ours); other formats carry no unit and are read
+/// as metres. `MeshLoadOptions::scale`, when set, replaces the file's unit.
+///
+/// Up axis: Collada's `<up_axis>` is honoured (X_UP, Y_UP, Z_UP; Y_UP when absent, as the
+/// Collada spec says); VRML is Y up by the VRML97 convention; the other formats are taken
+/// as Z up. `MeshLoadOptions::up_axis`, when set, replaces the file's up axis. A Y-up
+/// file is rotated by +90 degrees about X: file (x, y, z) becomes (x, -z, y).
+///
+/// Node names: each triangle keeps a name (`TriangleMesh::node_ids` / `node_names`,
+/// equal names share one id), for labelling parts by name afterwards:
+/// - Collada: the node's `name` attribute, else its `id`; OBJ: the object or group name;
+///   STL: the `solid` name (Assimp's node name, else the mesh name);
+/// - VRML: the nearest DEF name on the way up from the geometry (the geometry node, its
+///   Shape, then the enclosing Transforms and Groups), else "shape_<k>" (k counts the
+///   Shapes from 0 in the order they are met; a USEd Shape counts again);
+/// - PLY: none (`node_ids` stays empty).
+///
+/// VRML support covers what plant models use: Transform (full VRML97 matrix), Group,
+/// Collision, Anchor, Billboard (as a Group), Switch, LOD (first level), Shape with
+/// IndexedFaceSet, Box, Cylinder, Cone, Sphere, DEF/USE. PROTO instances and Inline are
+/// skipped (the "no triangles" error names them).
+///
+/// Thread safety: the functions keep no state; concurrent calls are safe.
+
+#include <cstdint>
+#include <string>
+
+#include <plantnbv/common/triangle_mesh.h>
+
+namespace plantnbv {
+namespace io {
+
+struct MeshLoadOptions {
+  enum class UpAxis { from_file, y, z };
+  /// Which file axis points up; from_file = Collada's <up_axis>, Y for VRML, Z for the
+  /// other formats.
+  UpAxis up_axis = UpAxis::from_file;
+  /// Metres per file unit; 0 = from the file (Collada <unit>, 1 for the other formats).
+  /// A non-zero value replaces the file's unit (it does not multiply it).
+  double scale = 0.0;
+  /// Refuse files with more triangles than this (protects memory); 0 = no limit. PLY,
+  /// VRML and binary STL are refused before the triangles are allocated; for the other
+  /// Assimp formats, before they are copied out of Assimp's scene.
+  std::uint64_t max_triangles = 50'000'000;
+};
+
+/// \brief Reads a mesh (the format from the extension, case-insensitive). Degenerate
+/// faces are kept (they carry zero area). A PLY face `label` (any integer type) fills
+/// `TriangleMesh::labels`.
+/// \throws IoError if the file is missing or unreadable; FormatError if it cannot be
+/// parsed, holds no triangles, has non-finite vertices or a PLY label outside PartLabel,
+/// exceeds max_triangles, or the extension is unknown (the message names it and the
+/// accepted ones); InvalidArgumentError for a negative or non-finite scale.
+TriangleMesh loadMesh(const std::string& path, const MeshLoadOptions& options = {});
+
+/// \brief Writes a binary little-endian PLY: vertex x y z (float), face vertex_indices
+/// (uchar count, uint indices) and, when the mesh has labels, face `label` (uint). Node
+/// names are not written. loadMesh reads the file back exactly.
+/// \throws IoError if the file cannot be written; FormatError if the mesh is invalid
+/// (TriangleMesh::validate).
+void saveMeshPly(const std::string& path, const TriangleMesh& mesh);
+
+} // namespace io
+} // namespace plantnbv

@@ -1,0 +1,35 @@
+#pragma once
+/// \file roi_io.h
+/// \brief ROI files: YAML with a list of boxes, each with a centre and a size in metres
+/// and an optional name:
+/// \code{.yaml}
+/// boxes:
+///   - name: main_stem
+///     center: [1.0, 0.0, 1.15]
+///     size: [0.05, 0.05, 0.7]
+/// \endcode
+
+#include <string>
+
+#include <plantnbv/common/box.h>
+
+namespace plantnbv {
+namespace io {
+
+/// \brief Reads an ROI file. Keys other than `boxes` (top level) and `name`, `center`,
+/// `size` (in a box) are rejected.
+/// \throws IoError if missing or unreadable; FormatError naming the file, the box index
+/// (from 0) and the key, e.g. "rois.yaml: box 2: size must be 3 non-negative numbers,
+/// got [0.1, -0.2, 0.3]", for malformed YAML, a missing key, a vector without exactly 3
+/// numbers, a negative or non-finite size, an unknown key, or a file without boxes.
+Roi loadRoi(const std::string& path);
+
+/// \brief Writes an ROI file that loadRoi reads back exactly: each number in the
+/// shortest decimal form that reads back as the same double (at most 17 significant
+/// digits), names quoted when YAML could misread them, unnamed boxes without `name`.
+/// \throws IoError if the file cannot be written; InvalidArgumentError for an empty ROI
+/// (an ROI file needs boxes) or a non-finite value.
+void saveRoi(const std::string& path, const Roi& roi);
+
+} // namespace io
+} // namespace plantnbv

@@ -1,0 +1,391 @@
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <sstream>
+#include <vector>
+
+#include <pcl/PCLPointCloud2.h>
+#include <pcl/conversions.h>
+#include <pcl/exceptions.h>
+#include <pcl/io/pcd_io.h>
+#include <pcl/io/ply_io.h>
+#include <pcl/point_cloud.h>
+#include <pcl/point_types.h>
+
+#include <plantnbv/common/error.h>
+#include <plantnbv/io/cloud_io.h>
+#include <plantnbv/io/file_kind.h>
+
+#include "io_util.h"
+#include "ply_format.h"
+
+namespace plantnbv {
+namespace io {
+
+namespace {
+
+const char* const kCloudExtensions = "expected .pcd or .ply";
+
+/// One field of the PCL blob, or none (offset < 0).
+struct FieldRef {
+  std::int64_t offset = -1;
+  std::uint8_t datatype = 0;
+  bool found() const { return offset >= 0; }
+};
+
+FieldRef findField(const pcl::PCLPointCloud2& blob, const char* name)
+{
+  for (const auto& f : blob.fields)
+    if (f.name == name && f.count >= 1)
+      return {static_cast<std::int64_t>(f.offset), f.datatype};
+  return {};
+}
+
+template <typename T>
+double readAs(const std::uint8_t* p)
+{
+  T v;
+  std::memcpy(&v, p, sizeof(T));
+  return static_cast<double>(v);
+}
+
+/// The value of a field of any PCL datatype, as a double (exact for all but 64-bit
+/// integers beyond 2^53, which no coordinate or label uses).
+double fieldValue(const std::uint8_t* point, const FieldRef& f)
+{
+  const std::uint8_t* p = point + f.offset;
+  switch (f.datatype) {
+  case pcl::PCLPointField::INT8:
+    return readAs<std::int8_t>(p);
+  case pcl::PCLPointField::UINT8:
+  case pcl::PCLPointField::BOOL:
+    return readAs<std::uint8_t>(p);
+  case pcl::PCLPointField::INT16:
+    return readAs<std::int16_t>(p);
+  case pcl::PCLPointField::UINT16:
+    return readAs<std::uint16_t>(p);
+  case pcl::PCLPointField::INT32:
+    return readAs<std::int32_t>(p);
+  case pcl::PCLPointField::UINT32:
+    return readAs<std::uint32_t>(p);
+  case pcl::PCLPointField::INT64:
+    return readAs<std::int64_t>(p);
+  case pcl::PCLPointField::UINT64:
+    return readAs<std::uint64_t>(p);
+  case pcl::PCLPointField::FLOAT32:
+    return readAs<float>(p);
+  case pcl::PCLPointField::FLOAT64:
+    return readAs<double>(p);
+  default:
+    return std::numeric_limits<double>::quiet_NaN();
+  }
+}
+
+/// Checks a PCD header and that the file is long enough for its binary data. PCL 1.13's
+/// PCDReader crashes on some malformed files (e.g. text without a DATA line), so it only
+/// gets files that pass.
+void checkPcd(const std::string& path)
+{
+  std::ifstream in(path, std::ios::binary);
+  auto bad = [&](const std::string& why) {
+    return FormatError(detail::where(path) + "bad PCD header: " + why);
+  };
+  std::size_t fields = 0;
+  std::vector<std::uint64_t> sizes, counts;
+  std::string types, data;
+  std::uint64_t width = 0, height = 1, points = 0;
+  bool have_width = false, have_points = false, have_types = false;
+  std::string line;
+  while (data.empty()) {
+    if (!detail::readHeaderLine(path, in, line))
+      throw bad("no DATA line (not a PCD file?)");
+    std::istringstream words(line);
+    std::string key;
+    words >> key;
+    if (key.empty() || key[0] == '#' || key == "VERSION" || key == "VIEWPOINT")
+      continue;
+    std::vector<std::string> values;
+    for (std::string w; words >> w;)
+      values.push_back(w);
+    auto number = [&](const std::string& w) {
+      std::uint64_t v = 0;
+      const auto r = std::from_chars(w.data(), w.data() + w.size(), v);
+      if (r.ec != std::errc() || r.ptr != w.data() + w.size())
+        throw bad(key + " value '" + w + "' is not a non-negative integer");
+      return v;
+    };
+    if (key == "FIELDS")
+      fields = values.size();
+    else if (key == "SIZE")
+      for (const auto& w : values)
+        sizes.push_back(number(w));
+    else if (key == "COUNT")
+      for (const auto& w : values)
+        counts.push_back(number(w));
+    else if (key == "TYPE") {
+      for (const auto& w : values)
+        types += w;
+      have_types = true;
+    } else if (key == "WIDTH" && values.size() == 1) {
+      width = number(values[0]);
+      have_width = true;
+    } else if (key == "HEIGHT" && values.size() == 1)
+      height = number(values[0]);
+    else if (key == "POINTS" && values.size() == 1) {
+      points = number(values[0]);
+      have_points = true;
+    } else if (key == "DATA" && values.size() == 1)
+      data = values[0];
+    else
+      throw bad("unexpected line '" + line + "'");
+  }
+  if (fields == 0 || sizes.size() != fields || !have_types || types.size() != fields ||
+      (!counts.empty() && counts.size() != fields))
+    throw bad("FIELDS, SIZE, TYPE and COUNT must list the same number of fields");
+  if (types.find_first_not_of("IUF") != std::string::npos)
+    throw bad("TYPE must be I, U or F");
+  if (!have_width)
+    throw bad("no WIDTH");
+  if (!have_points)
+    points = width * height;
+  if (data != "ascii" && data != "binary" && data != "binary_compressed")
+    throw bad("DATA must be ascii, binary or binary_compressed, got '" + data + "'");
+  std::uint64_t point_size = 0;
+  for (std::size_t i = 0; i < fields; ++i)
+    point_size += sizes[i] * (counts.empty() ? 1 : counts[i]);
+  const auto body = static_cast<std::uint64_t>(in.tellg());
+  const std::uint64_t file_size = std::filesystem::file_size(path);
+  if (data == "binary" &&
+      (file_size - body) / std::max<std::uint64_t>(point_size, 1) < points)
+    throw FormatError(detail::where(path) + "truncated: " + std::to_string(points) +
+                      " points of " + std::to_string(point_size) +
+                      " bytes need more than the " + std::to_string(file_size - body) +
+                      " bytes left");
+  if (data == "binary_compressed") {
+    std::uint32_t sizes_of_block[2] = {0, 0}; // compressed, uncompressed
+    if (!in.read(reinterpret_cast<char*>(sizes_of_block), 8) ||
+        sizes_of_block[0] > file_size - body - 8 ||
+        sizes_of_block[1] != points * point_size)
+      throw FormatError(detail::where(path) +
+                        "truncated or inconsistent compressed data");
+  }
+}
+
+/// Checks a PLY header: a vertex element, and a body long enough for its counts.
+void checkPly(const std::string& path)
+{
+  std::ifstream in(path, std::ios::binary);
+  const detail::PlyHeader header = detail::readPlyHeader(path, in);
+  if (!detail::findElement(header, "vertex"))
+    throw FormatError(detail::where(path) + "no vertex element");
+  detail::checkPlyBodySize(path, in, header);
+}
+
+/// Reads the file into a blob with PCL's readers; checks that x, y and z exist.
+pcl::PCLPointCloud2 readBlob(const std::string& path)
+{
+  const std::string ext = extensionOf(path);
+  if (ext != ".pcd" && ext != ".ply")
+    throw FormatError(detail::where(path) + "unknown point cloud extension '" + ext +
+                      "' (" + kCloudExtensions + ")");
+  detail::requireReadableFile(path);
+  if (ext == ".pcd")
+    checkPcd(path);
+  else
+    checkPly(path);
+  pcl::PCLPointCloud2 blob;
+  Eigen::Vector4f origin;
+  Eigen::Quaternionf orientation;
+  int status = -1;
+  // PCL reports the details of a failure on the console; we add a one-line summary.
+  try {
+    if (ext == ".pcd") {
+      pcl::PCDReader reader;
+      int version = 0;
+      status = reader.read(path, blob, origin, orientation, version);
+    } else {
+      pcl::PLYReader reader;
+      int version = 0;
+      status = reader.read(path, blob, origin, orientation, version);
+    }
+  } catch (const std::exception& e) {
+    throw FormatError(detail::where(path) + "cannot be parsed as " + ext.substr(1) +
+                      ": " + e.what());
+  }
+  if (status < 0)
+    throw FormatError(detail::where(path) + "cannot be parsed as a " + ext.substr(1) +
+                      " point cloud (PCL reader error " + std::to_string(status) + ")");
+  for (const char* axis : {"x", "y", "z"})
+    if (!findField(blob, axis).found())
+      throw FormatError(detail::where(path) + "has no '" + axis +
+                        "' field (a point cloud needs x, y and z)");
+  const std::uint64_t points = std::uint64_t{blob.width} * blob.height;
+  if (blob.data.size() < points * blob.point_step ||
+      (blob.height > 1 && blob.row_step < std::uint64_t{blob.width} * blob.point_step))
+    throw FormatError(detail::where(path) + "holds less data than its header declares");
+  return blob;
+}
+
+/// Copies x, y, z (and label) out of the blob whatever their stored types: PCL's own
+/// fromPCLPointCloud2 silently leaves zeros where a type differs (e.g. double x).
+template <typename PointT>
+void fromBlob(const std::string& path, const pcl::PCLPointCloud2& blob,
+              pcl::PointCloud<PointT>& cloud, bool with_label)
+{
+  const FieldRef fx = findField(blob, "x"), fy = findField(blob, "y"),
+                 fz = findField(blob, "z");
+  const FieldRef fl = with_label ? findField(blob, "label") : FieldRef{};
+  cloud.width = blob.width;
+  cloud.height = blob.height;
+  cloud.is_dense = blob.is_dense;
+  cloud.header.frame_id = blob.header.frame_id;
+  cloud.points.resize(std::size_t{blob.width} * blob.height);
+  std::size_t i = 0;
+  for (std::uint32_t row = 0; row < blob.height; ++row)
+    for (std::uint32_t col = 0; col < blob.width; ++col, ++i) {
+      const std::uint8_t* p = blob.data.data() + std::size_t{row} * blob.row_step +
+                              std::size_t{col} * blob.point_step;
+      PointT& q = cloud.points[i];
+      q.x = static_cast<float>(fieldValue(p, fx));
+      q.y = static_cast<float>(fieldValue(p, fy));
+      q.z = static_cast<float>(fieldValue(p, fz));
+      if constexpr (std::is_same_v<PointT, pcl::PointXYZL>) {
+        q.label = 0;
+        if (fl.found()) {
+          const double label = fieldValue(p, fl);
+          if (!(label >= 0.0 && label <= 4294967295.0 && label == std::floor(label)))
+            throw FormatError(detail::where(path) + "point " + std::to_string(i) +
+                              " has label " + std::to_string(label) +
+                              ", expected a non-negative whole number");
+          q.label = static_cast<std::uint32_t>(label);
+        }
+      }
+    }
+}
+
+/// Appends the little-endian bytes of v.
+template <typename T>
+void putLittleEndian(std::string& out, T v)
+{
+  std::uint8_t bytes[sizeof(T)];
+  std::memcpy(bytes, &v, sizeof(T));
+  if (!detail::hostIsLittleEndian())
+    std::reverse(bytes, bytes + sizeof(T));
+  out.append(reinterpret_cast<const char*>(bytes), sizeof(T));
+}
+
+/// Appends the shortest text that reads back as exactly v.
+void putText(std::string& out, float v)
+{
+  char buf[32];
+  const auto r = std::to_chars(buf, buf + sizeof(buf), v);
+  out.append(buf, r.ptr);
+}
+
+/// Our PLY cloud writer: PCL 1.13's PLYWriter ignores the precision of ASCII files (6
+/// digits) and adds camera and face elements that other tools do not expect.
+template <typename PointT>
+void writePly(const std::string& path, const pcl::PointCloud<PointT>& cloud, bool binary)
+{
+  constexpr bool kLabel = std::is_same_v<PointT, pcl::PointXYZL>;
+  std::ofstream out(path, std::ios::binary | std::ios::trunc);
+  if (!out)
+    throw IoError(detail::where(path) + "cannot open for writing");
+  out << "ply\nformat " << (binary ? "binary_little_endian" : "ascii") << " 1.0\n"
+      << "comment written by plantnbv\n"
+      << "element vertex " << cloud.size() << "\n"
+      << "property float x\nproperty float y\nproperty float z\n"
+      << (kLabel ? "property uint label\n" : "") << "end_header\n";
+  std::string block;
+  for (std::size_t i = 0; i < cloud.size(); ++i) {
+    const PointT& p = cloud[i];
+    if (binary) {
+      putLittleEndian(block, p.x);
+      putLittleEndian(block, p.y);
+      putLittleEndian(block, p.z);
+      if constexpr (kLabel)
+        putLittleEndian(block, static_cast<std::uint32_t>(p.label));
+    } else {
+      putText(block, p.x);
+      block += ' ';
+      putText(block, p.y);
+      block += ' ';
+      putText(block, p.z);
+      if constexpr (kLabel)
+        block += ' ' + std::to_string(p.label);
+      block += '\n';
+    }
+    if (block.size() >= (1u << 20) || i + 1 == cloud.size()) {
+      out.write(block.data(), static_cast<std::streamsize>(block.size()));
+      block.clear();
+    }
+  }
+  out.close();
+  if (!out)
+    throw IoError(detail::where(path) + "write error");
+}
+
+template <typename PointT>
+void save(const std::string& path, const pcl::PointCloud<PointT>& cloud, bool binary)
+{
+  const std::string ext = extensionOf(path);
+  if (ext != ".pcd" && ext != ".ply")
+    throw FormatError(detail::where(path) + "unknown point cloud extension '" + ext +
+                      "' (" + kCloudExtensions + ")");
+  if (ext == ".ply") {
+    writePly(path, cloud, binary);
+    return;
+  }
+  // PCL reports a file it cannot open only as an error code.
+  {
+    std::ofstream probe(path, std::ios::binary | std::ios::app);
+    if (!probe)
+      throw IoError(detail::where(path) + "cannot open for writing");
+  }
+  pcl::PCLPointCloud2 blob;
+  pcl::toPCLPointCloud2(cloud, blob);
+  // 9 significant digits: every float reads back exactly from ASCII.
+  constexpr int kFloatDigits = std::numeric_limits<float>::max_digits10;
+  pcl::PCDWriter writer;
+  int status = -1;
+  try {
+    status = binary ? writer.writeBinary(path, blob, Eigen::Vector4f::Zero(),
+                                         Eigen::Quaternionf::Identity())
+                    : writer.writeASCII(path, blob, Eigen::Vector4f::Zero(),
+                                        Eigen::Quaternionf::Identity(), kFloatDigits);
+  } catch (const std::exception& e) {
+    throw IoError(detail::where(path) + "cannot be written: " + e.what());
+  }
+  if (status < 0)
+    throw IoError(detail::where(path) + "cannot be written (PCL writer error " +
+                  std::to_string(status) + ")");
+}
+
+} // namespace
+
+void loadCloud(const std::string& path, CloudXYZ& cloud)
+{
+  fromBlob(path, readBlob(path), cloud, false);
+}
+
+void loadCloud(const std::string& path, CloudXYZL& cloud)
+{
+  fromBlob(path, readBlob(path), cloud, true);
+}
+
+void saveCloud(const std::string& path, const CloudXYZ& cloud, bool binary)
+{
+  save(path, cloud, binary);
+}
+
+void saveCloud(const std::string& path, const CloudXYZL& cloud, bool binary)
+{
+  save(path, cloud, binary);
+}
+
+} // namespace io
+} // namespace plantnbv

@@ -1,0 +1,365 @@
+#include <algorithm>
+#include <cctype>
+#include <charconv>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <string_view>
+#include <unordered_map>
+
+#include <Eigen/Core>
+#include <assimp/Importer.hpp>
+#include <assimp/config.h>
+#include <assimp/postprocess.h>
+#include <assimp/scene.h>
+
+#include <plantnbv/common/error.h>
+#include <plantnbv/io/file_kind.h>
+#include <plantnbv/io/mesh_io.h>
+
+#include "io_util.h"
+
+namespace plantnbv {
+namespace io {
+
+namespace {
+
+const char* const kMeshExtensions = "expected .ply, .obj, .stl, .dae, .wrl or .vrml";
+
+/// What a Collada file's top-level <asset> says about units and axes.
+struct ColladaAsset {
+  double meter = 1.0;            ///< metres per file unit (<unit meter="...">)
+  detail::Up up = detail::Up::y; ///< <up_axis>; Y_UP is Collada's default
+};
+
+std::string_view trim(std::string_view s)
+{
+  while (!s.empty() && std::isspace(static_cast<unsigned char>(s.front())))
+    s.remove_prefix(1);
+  while (!s.empty() && std::isspace(static_cast<unsigned char>(s.back())))
+    s.remove_suffix(1);
+  return s;
+}
+
+/// The value of XML attribute `name` in the text of a start tag; false if absent.
+bool attribute(std::string_view tag, std::string_view name, std::string_view& value)
+{
+  for (std::size_t at = tag.find(name); at != std::string_view::npos;
+       at = tag.find(name, at + 1)) {
+    // A whole attribute name: after a space, followed by "=" (spaces allowed around it).
+    if (at == 0 || !std::isspace(static_cast<unsigned char>(tag[at - 1])))
+      continue;
+    std::size_t eq = at + name.size();
+    while (eq < tag.size() && std::isspace(static_cast<unsigned char>(tag[eq])))
+      ++eq;
+    if (eq >= tag.size() || tag[eq] != '=')
+      continue;
+    const std::size_t quote = tag.find_first_of("\"'", eq);
+    if (quote == std::string_view::npos)
+      return false;
+    const std::size_t close = tag.find(tag[quote], quote + 1);
+    if (close == std::string_view::npos)
+      return false;
+    value = tag.substr(quote + 1, close - quote - 1);
+    return true;
+  }
+  return false;
+}
+
+/// Reads <unit> and <up_axis> from the <asset> at the top of a Collada file. We apply
+/// both ourselves, whatever Assimp does with them (see readWithAssimp).
+ColladaAsset scanColladaAsset(const std::string& path, const std::string& head)
+{
+  // <asset> is the first child of <COLLADA>, so the first <asset> is the document's.
+  ColladaAsset asset;
+  const std::size_t begin = head.find("<asset");
+  const std::size_t end = head.find("</asset>", begin == std::string::npos ? 0 : begin);
+  if (begin == std::string::npos || end == std::string::npos)
+    return asset;
+  const std::string_view block = std::string_view(head).substr(begin, end - begin);
+  const std::size_t unit = block.find("<unit");
+  if (unit != std::string_view::npos) {
+    const std::string_view tag = block.substr(unit, block.find('>', unit) - unit);
+    std::string_view value;
+    if (attribute(tag, "meter", value)) {
+      double meter = 0.0;
+      const std::string_view v = trim(value);
+      const auto r = std::from_chars(v.data(), v.data() + v.size(), meter);
+      if (r.ec != std::errc() || r.ptr != v.data() + v.size() || !std::isfinite(meter) ||
+          meter <= 0.0)
+        throw FormatError(detail::where(path) + "<unit meter=\"" + std::string(value) +
+                          "\"> must be a positive number");
+      asset.meter = meter;
+    }
+  }
+  const std::size_t up = block.find("<up_axis>");
+  if (up != std::string_view::npos) {
+    const std::size_t value_begin = up + std::strlen("<up_axis>");
+    const std::string_view value =
+        trim(block.substr(value_begin, block.find('<', value_begin) - value_begin));
+    if (value == "X_UP")
+      asset.up = detail::Up::x;
+    else if (value == "Y_UP")
+      asset.up = detail::Up::y;
+    else if (value == "Z_UP")
+      asset.up = detail::Up::z;
+    else
+      throw FormatError(detail::where(path) + "<up_axis> '" + std::string(value) +
+                        "' is not X_UP, Y_UP or Z_UP");
+  }
+  return asset;
+}
+
+/// Refuses Collada files that make Assimp 5.2.5 loop forever or crash (found by
+/// fuzzing): an index list (<p>) holding anything but digits and spaces, and an array
+/// (<float_array>, ...) without a valid count attribute.
+void checkColladaForAssimp(const std::string& path, const std::string& text)
+{
+  auto lineOf = [&](std::size_t at) {
+    return std::to_string(1 + std::count(text.begin(), text.begin() + at, '\n'));
+  };
+  static const char* const kArrays[] = {"<float_array", "<int_array", "<bool_array",
+                                        "<Name_array", "<IDREF_array"};
+  for (const char* tag : kArrays)
+    for (std::size_t at = text.find(tag); at != std::string::npos;
+         at = text.find(tag, at + 1)) {
+      const std::size_t close = text.find('>', at);
+      const std::string_view start_tag =
+          std::string_view(text).substr(at, close == std::string::npos ? 0 : close - at);
+      std::string_view count;
+      std::uint64_t n = 0;
+      if (!attribute(start_tag, "count", count) ||
+          std::from_chars(count.data(), count.data() + count.size(), n).ptr !=
+              count.data() + count.size() ||
+          count.empty())
+        throw FormatError(detail::where(path) + "line " + lineOf(at) + ": " + tag +
+                          "> needs a count attribute holding a non-negative integer");
+    }
+
+  static const char* const kTags[] = {"<p>", "<p ", "<h>",     "<h ",
+                                      "<v>", "<v ", "<vcount>"};
+  for (const char* tag : kTags)
+    for (std::size_t at = text.find(tag); at != std::string::npos;
+         at = text.find(tag, at + 1)) {
+      const std::size_t begin = text.find('>', at) + 1;
+      const std::size_t end = text.find('<', begin);
+      const std::size_t bad = text.find_first_not_of("0123456789 \t\r\n", begin);
+      if (bad < end && bad != std::string::npos) {
+        throw FormatError(detail::where(path) + "line " + lineOf(bad) + ": " +
+                          std::string(tag, std::strlen(tag) - 1) +
+                          "> must hold non-negative integers only, found '" + text[bad] +
+                          "'");
+      }
+    }
+}
+
+/// A binary STL states its triangle count in its first 84 bytes: refuse a file over the
+/// limit before Assimp allocates for it.
+void checkStlTriangleCount(const std::string& path, std::uint64_t max_triangles)
+{
+  if (max_triangles == 0)
+    return;
+  const std::uint64_t size = std::filesystem::file_size(path);
+  if (size < 84)
+    return;
+  std::ifstream in(path, std::ios::binary);
+  unsigned char header[84];
+  if (!in.read(reinterpret_cast<char*>(header), 84))
+    return;
+  const std::uint64_t n = header[80] | (header[81] << 8) | (header[82] << 16) |
+                          (std::uint64_t{header[83]} << 24);
+  if (size == 84 + 50 * n && n > max_triangles)
+    throw FormatError(detail::where(path) + std::to_string(n) + " triangles exceed " +
+                      std::to_string(max_triangles) +
+                      " (MeshLoadOptions::max_triangles)");
+}
+
+Eigen::Matrix4d toEigen(const aiMatrix4x4& m)
+{
+  Eigen::Matrix4d e;
+  for (int r = 0; r < 4; ++r)
+    for (int c = 0; c < 4; ++c)
+      e(r, c) = m[r][c];
+  return e;
+}
+
+/// The name a triangle keeps: its node's, else the Collada id, else its mesh's.
+std::string nameOf(const aiNode& node, const aiMesh& mesh)
+{
+  std::string name = node.mName.C_Str();
+  // Assimp invents "$ColladaAutoName$_N" for a Collada node without a name attribute.
+  if (!name.empty() && name.rfind("$ColladaAutoName$", 0) != 0)
+    return name;
+  aiString id;
+  if (node.mMetaData && node.mMetaData->Get("Collada_id", id) && id.length > 0)
+    return id.C_Str();
+  return mesh.mName.C_Str();
+}
+
+class AssimpCollector {
+public:
+  explicit AssimpCollector(const aiScene& scene) : scene_(scene) {}
+
+  /// Counts the triangles of the node tree (instances counted each time).
+  std::uint64_t count(const aiNode& node) const
+  {
+    std::uint64_t n = 0;
+    for (unsigned i = 0; i < node.mNumMeshes; ++i) {
+      const aiMesh& m = *scene_.mMeshes[node.mMeshes[i]];
+      for (unsigned f = 0; f < m.mNumFaces; ++f)
+        n += m.mFaces[f].mNumIndices == 3;
+    }
+    for (unsigned c = 0; c < node.mNumChildren; ++c)
+      n += count(*node.mChildren[c]);
+    return n;
+  }
+
+  /// Appends the triangles of the node and its descendants, placed by their transforms
+  /// (the node's own one only if use_own_transform).
+  void collect(const aiNode& node, const Eigen::Matrix4d& parent, TriangleMesh& out,
+               bool use_own_transform = true)
+  {
+    const Eigen::Matrix4d global =
+        use_own_transform ? Eigen::Matrix4d(parent * toEigen(node.mTransformation))
+                          : parent;
+    for (unsigned i = 0; i < node.mNumMeshes; ++i) {
+      const aiMesh& m = *scene_.mMeshes[node.mMeshes[i]];
+      if (!(m.mPrimitiveTypes & (aiPrimitiveType_TRIANGLE | aiPrimitiveType_POLYGON)))
+        continue; // points and lines only
+      const std::uint32_t id = nodeId(nameOf(node, m), out);
+      const auto base = static_cast<std::uint32_t>(out.vertices.size());
+      for (unsigned v = 0; v < m.mNumVertices; ++v) {
+        const aiVector3D& p = m.mVertices[v];
+        const Eigen::Vector4d q = global * Eigen::Vector4d(p.x, p.y, p.z, 1.0);
+        out.vertices.push_back(q.head<3>().cast<float>());
+      }
+      for (unsigned f = 0; f < m.mNumFaces; ++f) {
+        const aiFace& face = m.mFaces[f];
+        if (face.mNumIndices != 3)
+          continue;
+        out.triangles.push_back(
+            {base + face.mIndices[0], base + face.mIndices[1], base + face.mIndices[2]});
+        out.node_ids.push_back(id);
+      }
+    }
+    for (unsigned c = 0; c < node.mNumChildren; ++c)
+      collect(*node.mChildren[c], global, out);
+  }
+
+private:
+  std::uint32_t nodeId(const std::string& name, TriangleMesh& out)
+  {
+    const auto it = ids_.find(name);
+    if (it != ids_.end())
+      return it->second;
+    const auto id = static_cast<std::uint32_t>(out.node_names.size());
+    out.node_names.push_back(name);
+    ids_.emplace(name, id);
+    return id;
+  }
+
+  const aiScene& scene_;
+  std::unordered_map<std::string, std::uint32_t> ids_;
+};
+
+/// OBJ, STL and Collada through Assimp, in file axes; for Collada in file units too.
+///
+/// Assimp 5.2.5 (Debian 12) puts Collada's <unit> scale into the root node's transform
+/// and, unless AI_CONFIG_IMPORT_COLLADA_IGNORE_UP_DIRECTION is set, also a rotation that
+/// takes Z_UP (or X_UP) files to Y up; it sets no "UnitScaleFactor" metadata. The
+/// root node is Collada's <visual_scene>, which has no transform of its own, so we
+/// drop the root transform and apply the unit and up axis ourselves: exactly once,
+/// whatever the Assimp version does.
+TriangleMesh readWithAssimp(const std::string& path, const std::string& ext,
+                            std::uint64_t max_triangles)
+{
+  if (ext == ".stl")
+    checkStlTriangleCount(path, max_triangles);
+  Assimp::Importer importer;
+  importer.SetPropertyBool(AI_CONFIG_IMPORT_COLLADA_IGNORE_UP_DIRECTION, true);
+  // Node names from Collada's `name` attributes (what modelling tools show), not ids.
+  importer.SetPropertyBool(AI_CONFIG_IMPORT_COLLADA_USE_COLLADA_NAMES, true);
+  // Without normals and texture coordinates, JoinIdenticalVertices merges by position.
+  importer.SetPropertyInteger(AI_CONFIG_PP_RVC_FLAGS,
+                              aiComponent_NORMALS | aiComponent_TANGENTS_AND_BITANGENTS |
+                                  aiComponent_COLORS | aiComponent_TEXCOORDS |
+                                  aiComponent_BONEWEIGHTS);
+  // Not PreTransformVertices: it merges meshes and loses the node names.
+  const unsigned flags = aiProcess_Triangulate | aiProcess_JoinIdenticalVertices |
+                         aiProcess_RemoveComponent | aiProcess_ValidateDataStructure;
+  const aiScene* scene = importer.ReadFile(path, flags);
+  if (!scene || !scene->mRootNode)
+    throw FormatError(detail::where(path) + "cannot be read as " + ext.substr(1) + ": " +
+                      importer.GetErrorString());
+  AssimpCollector collector(*scene);
+  const std::uint64_t triangles = collector.count(*scene->mRootNode);
+  if (max_triangles > 0 && triangles > max_triangles)
+    throw FormatError(detail::where(path) + std::to_string(triangles) +
+                      " triangles exceed " + std::to_string(max_triangles) +
+                      " (MeshLoadOptions::max_triangles)");
+  TriangleMesh mesh;
+  mesh.triangles.reserve(static_cast<std::size_t>(triangles));
+  mesh.node_ids.reserve(static_cast<std::size_t>(triangles));
+  const aiNode& root = *scene->mRootNode;
+  // The Collada root is the <visual_scene>: its transform is Assimp's unit scale only.
+  collector.collect(root, Eigen::Matrix4d::Identity(), mesh, ext != ".dae");
+  return mesh;
+}
+
+} // namespace
+
+TriangleMesh loadMesh(const std::string& path, const MeshLoadOptions& options)
+{
+  if (!std::isfinite(options.scale) || options.scale < 0.0)
+    throw InvalidArgumentError(
+        "MeshLoadOptions::scale must be a finite number >= 0 (0 = from "
+        "the file), got " +
+        std::to_string(options.scale));
+  const std::string ext = extensionOf(path);
+  const bool ply = ext == ".ply", vrml = ext == ".wrl" || ext == ".vrml";
+  const bool assimp = ext == ".obj" || ext == ".stl" || ext == ".dae";
+  if (!ply && !vrml && !assimp)
+    throw FormatError(detail::where(path) + "unknown mesh extension '" + ext + "' (" +
+                      kMeshExtensions + ")");
+  detail::requireReadableFile(path);
+
+  // The file's own conventions: Collada says them, VRML is Y up, the rest Z up in metres.
+  ColladaAsset file;
+  file.up = vrml ? detail::Up::y : detail::Up::z;
+  if (ext == ".dae") {
+    const std::string text = detail::readFileToString(path);
+    file = scanColladaAsset(path, text);
+    checkColladaForAssimp(path, text);
+  }
+  TriangleMesh mesh = ply    ? detail::readPlyMesh(path, options.max_triangles)
+                      : vrml ? detail::readVrml(path, options.max_triangles)
+                             : readWithAssimp(path, ext, options.max_triangles);
+  if (mesh.triangles.empty())
+    throw FormatError(
+        detail::where(path) + "no triangles" +
+        (ply ? " (a PLY without faces is a point cloud: use loadCloud)" : ""));
+  if (options.max_triangles > 0 && mesh.triangles.size() > options.max_triangles)
+    throw FormatError(detail::where(path) + std::to_string(mesh.triangles.size()) +
+                      " triangles exceed " + std::to_string(options.max_triangles) +
+                      " (MeshLoadOptions::max_triangles)");
+
+  const detail::Up up = options.up_axis == MeshLoadOptions::UpAxis::from_file ? file.up
+                        : options.up_axis == MeshLoadOptions::UpAxis::y ? detail::Up::y
+                                                                        : detail::Up::z;
+  const double scale = options.scale > 0.0 ? options.scale : file.meter;
+  if (up != detail::Up::z || scale != 1.0) {
+    const Eigen::Matrix3d m = scale * detail::upToZ(up);
+    for (auto& v : mesh.vertices)
+      v = (m * v.cast<double>()).cast<float>();
+  }
+  try {
+    mesh.validate();
+  } catch (const FormatError& e) {
+    throw FormatError(detail::where(path) + e.what());
+  }
+  return mesh;
+}
+
+} // namespace io
+} // namespace plantnbv

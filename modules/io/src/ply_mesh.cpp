@@ -1,0 +1,415 @@
+// Our own PLY mesh reader and writer. Assimp's PLY importer drops per-face properties,
+// and PCL's PolygonMesh would cost a copy through PCLPointCloud2; this one streams the
+// file once and keeps the face `label`.
+
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <cstring>
+#include <fstream>
+#include <limits>
+#include <vector>
+
+#include <plantnbv/common/error.h>
+#include <plantnbv/io/mesh_io.h>
+
+#include "io_util.h"
+#include "ply_format.h"
+
+namespace plantnbv {
+namespace io {
+
+namespace {
+
+using detail::isInteger;
+using detail::PlyElement;
+using detail::PlyFormat;
+using detail::PlyHeader;
+using detail::PlyProperty;
+using detail::PlyType;
+using detail::sizeOf;
+
+/// Buffered reading of the PLY body, binary or ASCII.
+class PlyBody {
+public:
+  PlyBody(const std::string& path, std::ifstream& in, PlyFormat format)
+      : path_(path), in_(in), format_(format),
+        swap_((format == PlyFormat::binary_le) != detail::hostIsLittleEndian()),
+        buffer_(1 << 20)
+  {
+  }
+
+  /// Reads one value of type t as a double (exact for every PLY type).
+  double read(PlyType t, const char* what)
+  {
+    if (format_ == PlyFormat::ascii)
+      return readAscii(t, what);
+    std::uint8_t bytes[8];
+    const std::size_t n = sizeOf(t);
+    if (!readBytes(bytes, n))
+      throw truncated(what);
+    if (swap_)
+      std::reverse(bytes, bytes + n);
+    switch (t) {
+    case PlyType::int8:
+      return get<std::int8_t>(bytes);
+    case PlyType::uint8:
+      return get<std::uint8_t>(bytes);
+    case PlyType::int16:
+      return get<std::int16_t>(bytes);
+    case PlyType::uint16:
+      return get<std::uint16_t>(bytes);
+    case PlyType::int32:
+      return get<std::int32_t>(bytes);
+    case PlyType::uint32:
+      return get<std::uint32_t>(bytes);
+    case PlyType::float32:
+      return get<float>(bytes);
+    case PlyType::float64:
+      return get<double>(bytes);
+    }
+    return 0.0;
+  }
+
+  /// Reads a list length: a non-negative whole number.
+  std::uint64_t readCount(PlyType t, const char* what)
+  {
+    const double n = read(t, what);
+    if (!(n >= 0.0 && n == std::floor(n)))
+      throw FormatError(detail::where(path_) + what + ": invalid list length " +
+                        std::to_string(n));
+    return static_cast<std::uint64_t>(n);
+  }
+
+  void skip(const PlyProperty& p, const char* what)
+  {
+    if (!p.is_list) {
+      skipValues(p.type, 1, what);
+      return;
+    }
+    skipValues(p.type, readCount(p.count_type, what), what);
+  }
+
+  FormatError truncated(const char* what) const
+  {
+    return FormatError(detail::where(path_) + "unexpected end of file in " + what);
+  }
+
+private:
+  template <typename T>
+  static double get(const std::uint8_t* bytes)
+  {
+    T v;
+    std::memcpy(&v, bytes, sizeof(T));
+    return static_cast<double>(v);
+  }
+
+  bool fill()
+  {
+    if (pos_ < end_)
+      return true;
+    in_.read(buffer_.data(), static_cast<std::streamsize>(buffer_.size()));
+    pos_ = 0;
+    end_ = static_cast<std::size_t>(in_.gcount());
+    return end_ > 0;
+  }
+
+  bool readBytes(std::uint8_t* dst, std::size_t n)
+  {
+    while (n > 0) {
+      if (!fill())
+        return false;
+      const std::size_t k = std::min(n, end_ - pos_);
+      std::memcpy(dst, buffer_.data() + pos_, k);
+      pos_ += k;
+      dst += k;
+      n -= k;
+    }
+    return true;
+  }
+
+  void skipValues(PlyType t, std::uint64_t count, const char* what)
+  {
+    if (format_ == PlyFormat::ascii) {
+      for (std::uint64_t i = 0; i < count; ++i)
+        if (!nextToken())
+          throw truncated(what);
+      return;
+    }
+    std::uint64_t n = count * sizeOf(t);
+    while (n > 0) {
+      if (!fill())
+        throw truncated(what);
+      const std::size_t k =
+          static_cast<std::size_t>(std::min<std::uint64_t>(n, end_ - pos_));
+      pos_ += k;
+      n -= k;
+    }
+  }
+
+  /// The next whitespace-separated token into token_; false at the end of the file.
+  bool nextToken()
+  {
+    token_.clear();
+    while (fill()) {
+      const char c = buffer_[pos_];
+      if (c == ' ' || c == '\t' || c == '\n' || c == '\r') {
+        ++pos_;
+        if (!token_.empty())
+          return true;
+        continue;
+      }
+      token_ += c;
+      ++pos_;
+    }
+    return !token_.empty();
+  }
+
+  double readAscii(PlyType t, const char* what)
+  {
+    if (!nextToken())
+      throw truncated(what);
+    double v = 0.0;
+    const char* begin = token_.data();
+    const char* end = begin + token_.size();
+    if (*begin == '+')
+      ++begin;
+    const auto r = std::from_chars(begin, end, v);
+    if (r.ec != std::errc() || r.ptr != end || (isInteger(t) && v != std::floor(v)))
+      throw FormatError(detail::where(path_) + what + ": '" + token_ + "' is not a " +
+                        (isInteger(t) ? "whole number" : "number"));
+    return v;
+  }
+
+  const std::string& path_;
+  std::ifstream& in_;
+  PlyFormat format_;
+  bool swap_;
+  std::vector<char> buffer_;
+  std::size_t pos_ = 0, end_ = 0;
+  std::string token_;
+};
+
+int findProperty(const PlyElement& e, const char* name)
+{
+  for (std::size_t i = 0; i < e.properties.size(); ++i)
+    if (e.properties[i].name == name)
+      return static_cast<int>(i);
+  return -1;
+}
+
+constexpr std::uint32_t kMaxPartLabel = static_cast<std::uint32_t>(PartLabel::background);
+
+void readVertices(const std::string& path, const PlyElement& e, PlyBody& body,
+                  TriangleMesh& mesh)
+{
+  int xyz[3];
+  const char* const kAxes[] = {"x", "y", "z"};
+  for (int a = 0; a < 3; ++a) {
+    xyz[a] = findProperty(e, kAxes[a]);
+    if (xyz[a] < 0 || e.properties[xyz[a]].is_list)
+      throw FormatError(detail::where(path) + "the vertex element has no scalar '" +
+                        kAxes[a] + "' property");
+  }
+  if (!mesh.vertices.empty())
+    throw FormatError(detail::where(path) + "more than one vertex element");
+  if (e.count > std::numeric_limits<std::uint32_t>::max())
+    throw FormatError(detail::where(path) + std::to_string(e.count) +
+                      " vertices exceed the 2^32 - 1 a mesh can index");
+  mesh.vertices.resize(static_cast<std::size_t>(e.count));
+  for (auto& v : mesh.vertices)
+    for (std::size_t i = 0; i < e.properties.size(); ++i) {
+      const auto& p = e.properties[i];
+      const int axis = static_cast<int>(i) == xyz[0]   ? 0
+                       : static_cast<int>(i) == xyz[1] ? 1
+                       : static_cast<int>(i) == xyz[2] ? 2
+                                                       : -1;
+      if (axis < 0)
+        body.skip(p, "vertex data");
+      else
+        v[axis] = static_cast<float>(body.read(p.type, "vertex data"));
+    }
+}
+
+void readFaces(const std::string& path, const PlyElement& e, PlyBody& body,
+               std::uint64_t max_triangles, TriangleMesh& mesh)
+{
+  int indices = findProperty(e, "vertex_indices");
+  if (indices < 0)
+    indices = findProperty(e, "vertex_index");
+  if (indices < 0 || !e.properties[indices].is_list ||
+      !isInteger(e.properties[indices].type))
+    throw FormatError(detail::where(path) +
+                      "the face element has no integer list 'vertex_indices' or "
+                      "'vertex_index'");
+  const int label = findProperty(e, "label");
+  if (label >= 0 && (e.properties[label].is_list || !isInteger(e.properties[label].type)))
+    throw FormatError(detail::where(path) +
+                      "the face property 'label' must be one integer");
+  if (!mesh.triangles.empty())
+    throw FormatError(detail::where(path) + "more than one face element");
+  // Most faces are triangles; the reservation is bounded by the file size (checked by the
+  // caller) and by max_triangles.
+  std::uint64_t reserve = e.count;
+  if (max_triangles > 0)
+    reserve = std::min(reserve, max_triangles + 1);
+  mesh.triangles.reserve(static_cast<std::size_t>(reserve));
+  if (label >= 0)
+    mesh.labels.reserve(static_cast<std::size_t>(reserve));
+  for (std::uint64_t f = 0; f < e.count; ++f) {
+    std::uint32_t face_label = 0;
+    for (std::size_t i = 0; i < e.properties.size(); ++i) {
+      const auto& p = e.properties[i];
+      if (static_cast<int>(i) == label) {
+        const double l = body.read(p.type, "face data");
+        if (l < 0 || l > kMaxPartLabel)
+          throw FormatError(detail::where(path) + "face " + std::to_string(f) +
+                            ": label " + std::to_string(static_cast<long long>(l)) +
+                            " is not a part label (expected 0.." +
+                            std::to_string(kMaxPartLabel) + ")");
+        face_label = static_cast<std::uint32_t>(l);
+      } else if (static_cast<int>(i) != indices)
+        body.skip(p, "face data");
+      else {
+        // A fan around the first vertex; faces with fewer than 3 vertices add nothing.
+        const std::uint64_t n = body.readCount(p.count_type, "face data");
+        std::uint32_t first = 0, previous = 0;
+        for (std::uint64_t k = 0; k < n; ++k) {
+          const double idx = body.read(p.type, "face data");
+          if (idx < 0 || idx > std::numeric_limits<std::uint32_t>::max())
+            throw FormatError(detail::where(path) + "face " + std::to_string(f) +
+                              ": invalid vertex index " +
+                              std::to_string(static_cast<long long>(idx)));
+          const auto current = static_cast<std::uint32_t>(idx);
+          if (k == 0)
+            first = current;
+          else if (k >= 2) {
+            if (max_triangles > 0 && mesh.triangles.size() >= max_triangles)
+              throw FormatError(detail::where(path) + "more than " +
+                                std::to_string(max_triangles) +
+                                " triangles (MeshLoadOptions::max_triangles)");
+            mesh.triangles.push_back({first, previous, current});
+          }
+          previous = current;
+        }
+      }
+    }
+    if (label >= 0)
+      mesh.labels.resize(mesh.triangles.size(), static_cast<PartLabel>(face_label));
+  }
+}
+
+/// Little-endian serialisation into a buffer flushed to the file in large blocks.
+class LittleEndianWriter {
+public:
+  explicit LittleEndianWriter(std::ofstream& out) : out_(out) { buffer_.reserve(kBlock); }
+  ~LittleEndianWriter() { flush(); }
+
+  void u8(std::uint8_t v) { put(&v, 1); }
+  void u32(std::uint32_t v)
+  {
+    const std::uint8_t b[4] = {
+        static_cast<std::uint8_t>(v), static_cast<std::uint8_t>(v >> 8),
+        static_cast<std::uint8_t>(v >> 16), static_cast<std::uint8_t>(v >> 24)};
+    put(b, 4);
+  }
+  void f32(float v)
+  {
+    std::uint32_t bits;
+    std::memcpy(&bits, &v, 4);
+    u32(bits);
+  }
+  void flush()
+  {
+    out_.write(buffer_.data(), static_cast<std::streamsize>(buffer_.size()));
+    buffer_.clear();
+  }
+
+private:
+  static constexpr std::size_t kBlock = 1 << 20;
+  void put(const void* p, std::size_t n)
+  {
+    const char* c = static_cast<const char*>(p);
+    buffer_.insert(buffer_.end(), c, c + n);
+    if (buffer_.size() >= kBlock)
+      flush();
+  }
+  std::ofstream& out_;
+  std::vector<char> buffer_;
+};
+
+} // namespace
+
+namespace detail {
+
+TriangleMesh readPlyMesh(const std::string& path, std::uint64_t max_triangles)
+{
+  requireReadableFile(path);
+  std::ifstream in(path, std::ios::binary);
+  const PlyHeader header = readPlyHeader(path, in);
+  // Refuse counts the file cannot hold before anything is allocated for them.
+  checkPlyBodySize(path, in, header);
+  PlyBody body(path, in, header.format);
+  TriangleMesh mesh;
+  bool have_vertices = false;
+  for (const auto& e : header.elements) {
+    if (e.name == "vertex") {
+      readVertices(path, e, body, mesh);
+      have_vertices = true;
+    } else if (e.name == "face")
+      readFaces(path, e, body, max_triangles, mesh);
+    else
+      for (std::uint64_t i = 0; i < e.count; ++i)
+        for (const auto& p : e.properties)
+          body.skip(p, "element data");
+  }
+  if (!have_vertices)
+    throw FormatError(where(path) + "no vertex element");
+  return mesh;
+}
+
+} // namespace detail
+
+void saveMeshPly(const std::string& path, const TriangleMesh& mesh)
+{
+  try {
+    mesh.validate();
+  } catch (const FormatError& e) {
+    throw FormatError(detail::where(path) +
+                      "refusing to write an invalid mesh: " + e.what());
+  }
+  std::ofstream out(path, std::ios::binary | std::ios::trunc);
+  if (!out)
+    throw IoError(detail::where(path) + "cannot open for writing");
+  out << "ply\n"
+      << "format binary_little_endian 1.0\n"
+      << "comment written by plantnbv\n"
+      << "element vertex " << mesh.vertices.size() << "\n"
+      << "property float x\nproperty float y\nproperty float z\n"
+      << "element face " << mesh.triangles.size() << "\n"
+      << "property list uchar uint vertex_indices\n";
+  if (mesh.hasLabels())
+    out << "property uint label\n";
+  out << "end_header\n";
+  {
+    LittleEndianWriter w(out);
+    for (const auto& v : mesh.vertices) {
+      w.f32(v.x());
+      w.f32(v.y());
+      w.f32(v.z());
+    }
+    for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+      w.u8(3);
+      for (auto i : mesh.triangles[t])
+        w.u32(i);
+      if (mesh.hasLabels())
+        w.u32(static_cast<std::uint32_t>(mesh.labels[t]));
+    }
+  }
+  out.close();
+  if (!out)
+    throw IoError(detail::where(path) + "write error");
+}
+
+} // namespace io
+} // namespace plantnbv

@@ -1,0 +1,58 @@
+#pragma once
+/// \file octree_conversion.h
+/// \brief Conversions between OctoMap octrees and point clouds, and .bt/.ot files.
+
+#include <memory>
+#include <string>
+
+#include <plantnbv/common/box.h>
+#include <plantnbv/common/pcl_fwd.h>
+
+namespace octomap {
+class OcTree;
+}
+
+namespace plantnbv {
+
+/// \brief Options for `occupiedVoxelCentres`.
+struct OccupiedVoxelOptions {
+  /// Occupancy probability above which a voxel counts (strict >); a value < 0 uses the
+  /// tree's own occupancy threshold (OctoMap's isNodeOccupied, default 0.5).
+  double threshold = -1.0;
+  /// When non-empty, only voxels whose centre lies in the ROI are kept.
+  Roi roi;
+};
+
+/// \brief The centres of the occupied voxels at the tree's finest resolution: a pruned
+/// inner node stands for all its voxels and is expanded into them (keys computed, not
+/// searched). Centre of key k: (k - 32768 + 0.5) * resolution in double (OctoMap's
+/// keyToCoord), stored as float; the same points as VoxelGridFilter's centre mode.
+/// Order: OctoMap's leaf iteration order, each expanded node in increasing (x, y, z) key
+/// order (z fastest).
+/// \param[in] tree the map; not modified. \param[out] cloud cleared, then filled
+/// (unorganized, dense). \throws InvalidArgumentError if options.threshold is NaN or > 1.
+void occupiedVoxelCentres(const octomap::OcTree& tree, CloudXYZ& cloud,
+                          const OccupiedVoxelOptions& options = {});
+
+/// \brief A new octree at `resolution` in which the voxel of every finite point is
+/// occupied (one hit each, however many points share the voxel: OctoMap's default hit
+/// probability 0.7) and nothing else is known. Non-finite points are skipped. The tree is
+/// pruned (a full block of equal voxels becomes one node).
+/// \throws InvalidArgumentError unless the resolution is finite and > 0, or if a point
+/// lies outside the octree's range (+-32768 voxels around the origin).
+std::unique_ptr<octomap::OcTree> cloudToOcTree(const CloudXYZ& cloud, double resolution);
+
+/// \brief Reads a .bt (binary, maximum-likelihood) or .ot (full) octree file; the file's
+/// header line decides which, not its extension.
+/// \throws IoError if missing or unreadable; FormatError if it is not an OctoMap file
+/// or holds another tree type (e.g. a ColorOcTree).
+std::unique_ptr<octomap::OcTree> readOcTree(const std::string& path);
+
+/// \brief Writes .bt (writeBinaryConst) or .ot (write), by extension, as OctoMap's
+/// own tools (octovis, binvox2bt) read them; .bt stores occupied / free only (the tree
+/// itself is not changed). The extension is matched case-insensitively.
+/// \throws IoError if the file cannot be written; FormatError for another extension
+/// (checked before the file is created).
+void writeOcTree(const std::string& path, const octomap::OcTree& tree);
+
+} // namespace plantnbv

@@ -1,0 +1,217 @@
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <cstdint>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include <octomap/AbstractOcTree.h>
+#include <octomap/OcTree.h>
+#include <pcl/common/point_tests.h>
+#include <pcl/point_cloud.h>
+#include <pcl/point_types.h>
+
+#include <plantnbv/common/error.h>
+#include <plantnbv/octree/octree_conversion.h>
+
+namespace plantnbv {
+
+namespace {
+
+/// The first lines OctoMap writes (AbstractOccupancyOcTree::writeBinary,
+/// AbstractOcTree::write); its readers check them too.
+constexpr const char* kBinaryHeader = "# Octomap OcTree binary file";
+constexpr const char* kFullHeader = "# Octomap OcTree file";
+
+std::string lowerExtension(const std::string& path)
+{
+  std::string ext = std::filesystem::path(path).extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return ext;
+}
+
+bool startsWith(const std::string& s, const char* prefix)
+{
+  return s.rfind(prefix, 0) == 0;
+}
+
+} // namespace
+
+void occupiedVoxelCentres(const octomap::OcTree& tree, CloudXYZ& cloud,
+                          const OccupiedVoxelOptions& options)
+{
+  const double threshold = options.threshold;
+  if (std::isnan(threshold) || threshold > 1.0) {
+    std::ostringstream s;
+    s << "occupiedVoxelCentres: threshold " << threshold
+      << " must be an occupancy probability <= 1 (or < 0 for the tree's own)";
+    throw InvalidArgumentError(s.str());
+  }
+  cloud.clear();
+
+  const unsigned tree_depth = tree.getTreeDepth();
+  const bool use_roi = !options.roi.empty();
+  // Key range (per axis, conservative by one key) that can hold ROI centres: a large
+  // pruned node is then expanded only where the ROI is.
+  std::int64_t roi_lo[3] = {0, 0, 0}, roi_hi[3] = {0, 0, 0};
+  if (use_roi) {
+    const Box bb = options.roi.boundingBox();
+    const double inv = 1.0 / tree.getResolution();
+    const std::int64_t max_val = std::int64_t{1} << (tree_depth - 1); // key of 0.0
+    for (int a = 0; a < 3; ++a) {
+      roi_lo[a] =
+          static_cast<std::int64_t>(std::max(std::floor(bb.min()[a] * inv), -1e9)) +
+          max_val - 1;
+      roi_hi[a] =
+          static_cast<std::int64_t>(std::min(std::floor(bb.max()[a] * inv), 1e9)) +
+          max_val + 1;
+    }
+  }
+
+  const auto push = [&](const octomap::OcTreeKey& key) {
+    const double x = tree.keyToCoord(key[0]);
+    const double y = tree.keyToCoord(key[1]);
+    const double z = tree.keyToCoord(key[2]);
+    if (use_roi && !options.roi.contains(Eigen::Vector3d(x, y, z)))
+      return;
+    cloud.push_back(pcl::PointXYZ(static_cast<float>(x), static_cast<float>(y),
+                                  static_cast<float>(z)));
+  };
+
+  for (auto it = tree.begin_leafs(), end = tree.end_leafs(); it != end; ++it) {
+    const bool occupied =
+        threshold < 0.0 ? tree.isNodeOccupied(*it) : it->getOccupancy() > threshold;
+    if (!occupied)
+      continue;
+    const unsigned depth = it.getDepth();
+    if (depth == tree_depth) {
+      push(it.getKey());
+      continue;
+    }
+    // A leaf above the finest level (pruned): it spans n keys per axis, and its iterator
+    // key is the one just above its centre (OcTreeKey computeChildKey), so it covers
+    // [key - n / 2, key + n / 2 - 1].
+    const std::int64_t n = std::int64_t{1} << (tree_depth - depth);
+    std::int64_t lo[3], hi[3];
+    for (int a = 0; a < 3; ++a) {
+      lo[a] = static_cast<std::int64_t>(it.getKey()[a]) - n / 2;
+      hi[a] = lo[a] + n - 1;
+      if (use_roi) {
+        lo[a] = std::max(lo[a], roi_lo[a]);
+        hi[a] = std::min(hi[a], roi_hi[a]);
+      }
+    }
+    octomap::OcTreeKey key;
+    for (std::int64_t kx = lo[0]; kx <= hi[0]; ++kx)
+      for (std::int64_t ky = lo[1]; ky <= hi[1]; ++ky)
+        for (std::int64_t kz = lo[2]; kz <= hi[2]; ++kz) {
+          key[0] = static_cast<octomap::key_type>(kx);
+          key[1] = static_cast<octomap::key_type>(ky);
+          key[2] = static_cast<octomap::key_type>(kz);
+          push(key);
+        }
+  }
+  cloud.width = static_cast<std::uint32_t>(cloud.size());
+  cloud.height = 1;
+  cloud.is_dense = true;
+}
+
+std::unique_ptr<octomap::OcTree> cloudToOcTree(const CloudXYZ& cloud, double resolution)
+{
+  if (!(std::isfinite(resolution) && resolution > 0.0)) {
+    std::ostringstream s;
+    s << "cloudToOcTree: resolution " << resolution << " must be finite and > 0 (metres)";
+    throw InvalidArgumentError(s.str());
+  }
+  auto tree = std::make_unique<octomap::OcTree>(resolution);
+  const double inv = 1.0 / resolution; // OctoMap's resolution_factor
+  const double max_val = 1 << (tree->getTreeDepth() - 1);
+
+  // Distinct voxels first: a voxel hit by several points gets one hit, so the result
+  // depends on the set of voxels only, not on point density or order.
+  octomap::KeySet keys;
+  for (const pcl::PointXYZ& p : cloud) {
+    if (!pcl::isXYZFinite(p)) // NaNs crash OctoMap's key arithmetic
+      continue;
+    // OctoMap's coordToKey casts floor(coord / res) to int unchecked: range-check first.
+    for (const float c : {p.x, p.y, p.z}) {
+      const double i = std::floor(inv * static_cast<double>(c));
+      if (!(i >= -max_val && i < max_val)) {
+        std::ostringstream s;
+        s << "cloudToOcTree: point (" << p.x << ", " << p.y << ", " << p.z
+          << ") lies outside the octree's range of +-" << max_val * resolution
+          << " m at resolution " << resolution;
+        throw InvalidArgumentError(s.str());
+      }
+    }
+    keys.insert(tree->coordToKey(octomap::point3d(p.x, p.y, p.z)));
+  }
+  for (const octomap::OcTreeKey& key : keys)
+    tree->updateNode(key, true, /*lazy_eval=*/true);
+  // Lazy updates leave inner nodes stale and the tree unpruned.
+  tree->updateInnerOccupancy();
+  tree->prune();
+  return tree;
+}
+
+std::unique_ptr<octomap::OcTree> readOcTree(const std::string& path)
+{
+  // Checked here so that a missing file is an IoError before OctoMap prints anything.
+  std::error_code ec;
+  if (!std::filesystem::exists(path, ec))
+    throw IoError("octree file '" + path + "' does not exist");
+  if (std::filesystem::is_directory(path, ec))
+    throw IoError("octree file '" + path + "' is a directory");
+  std::ifstream in(path, std::ios::binary);
+  if (!in)
+    throw IoError("cannot open octree file '" + path + "' for reading");
+
+  // The content decides, not the extension: .bt and .ot start with their own header.
+  std::string first_line;
+  std::getline(in, first_line);
+  in.clear();
+  in.seekg(0);
+  if (startsWith(first_line, kBinaryHeader)) {
+    auto tree = std::make_unique<octomap::OcTree>(0.1); // readBinary sets the resolution
+    if (!tree->readBinary(in))
+      throw FormatError("'" + path + "' is not a valid OctoMap binary (.bt) file");
+    if (in.bad())
+      throw IoError("error while reading octree file '" + path + "'");
+    return tree;
+  }
+  if (startsWith(first_line, kFullHeader)) {
+    std::unique_ptr<octomap::AbstractOcTree> abstract(octomap::AbstractOcTree::read(in));
+    if (!abstract)
+      throw FormatError("'" + path + "' is not a valid OctoMap (.ot) file");
+    if (in.bad())
+      throw IoError("error while reading octree file '" + path + "'");
+    auto* tree = dynamic_cast<octomap::OcTree*>(abstract.get());
+    if (!tree)
+      throw FormatError("'" + path + "' holds an OctoMap " + abstract->getTreeType() +
+                        ", expected an OcTree");
+    abstract.release();
+    return std::unique_ptr<octomap::OcTree>(tree);
+  }
+  throw FormatError("'" + path + "' is not an OctoMap file (expected the header '" +
+                    kBinaryHeader + "' or '" + kFullHeader + "')");
+}
+
+void writeOcTree(const std::string& path, const octomap::OcTree& tree)
+{
+  const std::string ext = lowerExtension(path);
+  if (ext != ".bt" && ext != ".ot")
+    throw FormatError("cannot write octree file '" + path + "': extension '" + ext +
+                      "' is neither .bt nor .ot");
+  std::ofstream out(path, std::ios::binary | std::ios::trunc);
+  if (!out)
+    throw IoError("cannot open octree file '" + path + "' for writing");
+  // writeBinaryConst: writeBinary would turn the caller's tree into maximum likelihood.
+  const bool ok = ext == ".bt" ? tree.writeBinaryConst(out) : tree.write(out);
+  out.close();
+  if (!ok || out.fail())
+    throw IoError("error while writing octree file '" + path + "'");
+}
+
+} // namespace plantnbv

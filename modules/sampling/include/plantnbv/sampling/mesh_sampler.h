@@ -1,0 +1,65 @@
+#pragma once
+/// \file mesh_sampler.h
+/// \brief Area-weighted uniform sampling of a triangle mesh's surface.
+
+#include <cstdint>
+#include <memory>
+
+#include <plantnbv/common/pcl_fwd.h>
+#include <plantnbv/common/triangle_mesh.h>
+
+namespace plantnbv {
+
+/// \brief Draws N points uniformly over the surface of a mesh: each point falls on a
+/// triangle with probability proportional to its area, then uniformly inside it.
+///
+/// The result depends only on the mesh, N and the seed (portable draws from `Rng`), not
+/// on the machine or the thread count. Zero-area triangles never receive points.
+/// \code
+/// MeshSampler sampler;
+/// sampler.setInputMesh(mesh);
+/// sampler.setNumberOfPoints(100000);
+/// sampler.setSeed(7);
+/// sampler.sample(cloud);
+/// \endcode
+/// Not thread-safe; one sampler per thread.
+class MeshSampler {
+public:
+  using MeshConstPtr = std::shared_ptr<const TriangleMesh>;
+
+  /// \brief The mesh to sample; its area table is built here, once.
+  /// \throws InvalidArgumentError if the mesh is null or has zero total area.
+  void setInputMesh(const MeshConstPtr& mesh);
+  const MeshConstPtr& getInputMesh() const { return mesh_; }
+
+  /// \param[in] n number of points to draw (default 100000); \throws if n == 0.
+  void setNumberOfPoints(std::size_t n);
+  std::size_t getNumberOfPoints() const { return n_points_; }
+
+  /// \param[in] seed the random seed (default 0).
+  void setSeed(std::uint64_t seed) { seed_ = seed; }
+  std::uint64_t getSeed() const { return seed_; }
+
+  /// \brief Total surface area in square metres (after setInputMesh).
+  double getSurfaceArea() const { return total_area_; }
+
+  /// \brief Fills `cloud` (unorganized, width N, height 1, dense).
+  /// \throws InvalidArgumentError if no mesh was set.
+  void sample(CloudXYZ& cloud) const;
+  /// \brief As above, with each point labelled by its triangle's PartLabel (unknown when
+  /// the mesh has no labels).
+  void sample(CloudXYZL& cloud) const;
+
+private:
+  /// Draws the points; calls emit(point, triangle index) N times.
+  template <typename Emit>
+  void draw(Emit&& emit) const;
+
+  MeshConstPtr mesh_;
+  std::vector<double> cumulative_area_; ///< cumulative_area_[t] = sum of areas [0, t]
+  double total_area_ = 0.0;
+  std::size_t n_points_ = 100000;
+  std::uint64_t seed_ = 0;
+};
+
+} // namespace plantnbv

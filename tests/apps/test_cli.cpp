@@ -1,0 +1,253 @@
+// The plantnbv tool as a user runs it: exit codes, one-line errors, and results.
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <sstream>
+#include <string>
+#include <sys/wait.h>
+
+#include <gtest/gtest.h>
+#include <octomap/OcTree.h>
+#include <pcl/point_cloud.h>
+#include <pcl/point_types.h>
+
+#include <plantnbv/io/cloud_io.h>
+#include <plantnbv/octree/octree_conversion.h>
+
+namespace fs = std::filesystem;
+
+namespace {
+
+const std::string kTool = std::string(PLANTNBV_BINARY_DIR) + "/bin/plantnbv";
+const std::string kFixtures = std::string(PLANTNBV_DATA_DIR) + "/fixtures";
+
+struct ToolRun {
+  int code = -1;
+  std::string out, err;
+};
+
+std::string slurp(const fs::path& p)
+{
+  std::ifstream in(p);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+class CliTest : public ::testing::Test {
+protected:
+  void SetUp() override
+  {
+    dir_ = fs::temp_directory_path() /
+           ("plantnbv_cli_" +
+            std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  std::string path(const std::string& name) const { return (dir_ / name).string(); }
+
+  ToolRun run(const std::string& args) const
+  {
+    const std::string cmd = kTool + " " + args + " >" + path("stdout") + " 2>" +
+                            path("stderr") + " </dev/null";
+    const int status = std::system(cmd.c_str());
+    ToolRun r;
+    r.code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+    r.out = slurp(path("stdout"));
+    r.err = slurp(path("stderr"));
+    return r;
+  }
+
+  void write(const std::string& name, const std::string& text) const
+  {
+    std::ofstream(path(name)) << text;
+  }
+
+  /// A 4 x 4 x 1 lattice of points 1/64 m apart from (1, 1, 513) / 512 m, shifted by `dx`
+  /// along x. Powers of two keep every coordinate and distance exact in float.
+  void writeLattice(const std::string& name, float dx) const
+  {
+    pcl::PointCloud<pcl::PointXYZ> cloud;
+    const float origin = 1.0f / 512, spacing = 1.0f / 64;
+    for (int i = 0; i < 4; ++i)
+      for (int j = 0; j < 4; ++j)
+        cloud.push_back(pcl::PointXYZ(origin + spacing * i + dx, origin + spacing * j,
+                                      1.0f + origin));
+    plantnbv::io::saveCloud(path(name), cloud);
+  }
+
+  fs::path dir_;
+};
+
+/// Errors are one line on stderr that starts with "plantnbv".
+void expectOneLineError(const ToolRun& r, int code, const std::string& needle)
+{
+  EXPECT_EQ(r.code, code) << r.err;
+  EXPECT_EQ(r.err.rfind("plantnbv", 0), 0u) << r.err;
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+  EXPECT_NE(r.err.find(needle), std::string::npos)
+      << "'" << needle << "' not in: " << r.err;
+}
+
+} // namespace
+
+TEST_F(CliTest, HelpAndVersionExitZero)
+{
+  const ToolRun help = run("--help");
+  EXPECT_EQ(help.code, 0);
+  EXPECT_NE(help.out.find("sample"), std::string::npos);
+  EXPECT_NE(help.out.find("eval"), std::string::npos);
+  EXPECT_EQ(run("eval --help").code, 0);
+  EXPECT_EQ(run("--version").code, 0);
+}
+
+TEST_F(CliTest, UsageErrorsExitTwo)
+{
+  expectOneLineError(run(""), 2, "subcommand");
+  expectOneLineError(run("frobnicate"), 2, "frobnicate");
+  expectOneLineError(run("eval --reference a.pcd"), 2, "--reconstruction");
+  expectOneLineError(run("eval --reference a.pcd --reconstruction b.pcd --bogus"), 2,
+                     "--bogus");
+  expectOneLineError(run("sample --mesh m.ply --points many -o x.pcd"), 2, "--points");
+  expectOneLineError(run("eval --reference a.pcd --reconstruction b.pcd --rho"), 2,
+                     "--rho");
+}
+
+TEST_F(CliTest, BadInputsExitOneWithTheFileOrValueNamed)
+{
+  writeLattice("a.pcd", 0.0f);
+  write("empty.obj", "# no faces\nv 0 0 0\n");
+  write("garbage.ply", "this is not a ply file\n");
+  write("nan.pcd",
+        "# .PCD v0.7\nVERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\n"
+        "WIDTH 2\nHEIGHT 1\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS 2\nDATA ascii\nnan nan nan\n"
+        "nan 1 nan\n");
+  write("negative.yaml", "boxes:\n  - center: [0, 0, 0]\n    size: [0.1, -0.1, 0.1]\n");
+  write("cloud.xyz", "0 0 0\n");
+  const std::string a = path("a.pcd");
+
+  expectOneLineError(
+      run("eval --reference " + path("missing.pcd") + " --reconstruction " + a), 1,
+      "missing.pcd");
+  expectOneLineError(
+      run("eval --reference " + a + " --reconstruction " + path("empty.obj")), 1,
+      "empty.obj");
+  expectOneLineError(
+      run("eval --reference " + path("garbage.ply") + " --reconstruction " + a), 1,
+      "garbage.ply");
+  expectOneLineError(
+      run("eval --reference " + path("nan.pcd") + " --reconstruction " + a), 1,
+      "no finite point");
+  expectOneLineError(run("eval --reference " + a + " --reconstruction " + a + " --rho 0"),
+                     1, "--rho");
+  expectOneLineError(
+      run("eval --reference " + a + " --reconstruction " + a + " --rho -1"), 1, "--rho");
+  expectOneLineError(
+      run("eval --reference " + a + " --reconstruction " + a + " --resolution 0"), 1,
+      "--resolution");
+  expectOneLineError(
+      run("eval --reference " + path("cloud.xyz") + " --reconstruction " + a), 1, ".xyz");
+  expectOneLineError(run("eval --reference " + a + " --reconstruction " + a + " --roi " +
+                         path("negative.yaml")),
+                     1, "negative.yaml");
+  expectOneLineError(run("sample --mesh " + path("missing.obj") + " -o " + path("o.pcd")),
+                     1, "missing.obj");
+  expectOneLineError(run("sample --mesh " + kFixtures + "/plant_like.ply --points 0 -o " +
+                         path("o.pcd")),
+                     1, "--points");
+  expectOneLineError(
+      run("sample --mesh " + kFixtures + "/plant_like.ply -o " + path("o.txt")), 1,
+      "o.txt");
+  expectOneLineError(run("sample --mesh " + kFixtures +
+                         "/plant_like.ply --voxel -0.1 -o " + path("o.pcd")),
+                     1, "--voxel");
+}
+
+TEST_F(CliTest, SampleWritesTheRequestedPointsSeeded)
+{
+  const std::string mesh = kFixtures + "/plant_like.ply";
+  ASSERT_EQ(
+      run("sample --mesh " + mesh + " --points 5000 --seed 3 -o " + path("a.pcd")).code,
+      0);
+  ASSERT_EQ(run("sample --mesh " + mesh + " --points 5000 --seed 3 --labels -o " +
+                path("b.ply"))
+                .code,
+            0);
+  pcl::PointCloud<pcl::PointXYZ> a;
+  pcl::PointCloud<pcl::PointXYZL> b;
+  plantnbv::io::loadCloud(path("a.pcd"), a);
+  plantnbv::io::loadCloud(path("b.ply"), b);
+  ASSERT_EQ(a.size(), 5000u);
+  ASSERT_EQ(b.size(), 5000u);
+  bool labelled = false;
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    EXPECT_EQ(a[i].getVector3fMap(), b[i].getVector3fMap()); // same seed, same points
+    labelled = labelled || b[i].label != 0;
+  }
+  EXPECT_TRUE(labelled);
+}
+
+TEST_F(CliTest, EvalOfAShiftedCloudGivesTheShiftAsChamferAndJson)
+{
+  // Every point of B is 1/256 m from its twin in A and farther from the others: the
+  // Chamfer distance is 2/256 m; rho 5 mm counts all, rho = 1/256 m none (strict <).
+  writeLattice("a.pcd", 0.0f);
+  writeLattice("b.pcd", 1.0f / 256);
+  ToolRun r = run("eval --json --reference " + path("a.pcd") + " --reconstruction " +
+                  path("b.pcd") + " --rho 0.005");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("\"f1\": 1.0"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("\"reference_points\": 16"), std::string::npos) << r.out;
+  const auto at = r.out.find("\"chamfer\": ");
+  ASSERT_NE(at, std::string::npos);
+  EXPECT_EQ(std::stod(r.out.substr(at + 11)), 2.0 / 256);
+  r = run("eval --json --reference " + path("a.pcd") + " --reconstruction " +
+          path("b.pcd") + " --rho 0.00390625");
+  ASSERT_EQ(r.code, 0);
+  EXPECT_NE(r.out.find("\"f1\": 0.0"), std::string::npos) << r.out;
+  r = run("eval --reference " + path("a.pcd") + " --reconstruction " + path("b.pcd"));
+  ASSERT_EQ(r.code, 0);
+  EXPECT_NE(r.out.find("F1"), std::string::npos);
+}
+
+TEST_F(CliTest, EvalReadsMeshesAndOctreesAndCropsToAnRoi)
+{
+  const std::string mesh = kFixtures + "/plant_like.ply";
+  // A mesh against itself (same seed): identical ground truth, a perfect score.
+  ToolRun r = run("eval --json --reference " + mesh + " --reconstruction " + mesh);
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("\"f1\": 1.0"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("\"chamfer\": 0.0"), std::string::npos) << r.out;
+
+  // The lattice as an octree at 1 cm: 16 distinct voxels whose centres lie within 6.2 mm
+  // of their points, so within rho = 1 cm.
+  writeLattice("a.pcd", 0.0f);
+  pcl::PointCloud<pcl::PointXYZ> a;
+  plantnbv::io::loadCloud(path("a.pcd"), a);
+  plantnbv::writeOcTree(path("a.bt"), *plantnbv::cloudToOcTree(a, 0.01));
+  r = run("eval --json --reference " + path("a.pcd") + " --reconstruction " +
+          path("a.bt") + " --rho 0.01");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("\"reconstruction_points\": 16"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("\"f1\": 1.0"), std::string::npos) << r.out;
+
+  // An ROI holding the first lattice row only (x = 1/512 m): 4 points each.
+  write("row.yaml",
+        "boxes:\n  - center: [0.002, 0.025, 1.0]\n    size: [0.002, 0.06, 0.01]\n");
+  r = run("eval --json --reference " + path("a.pcd") + " --reconstruction " +
+          path("a.pcd") + " --roi " + path("row.yaml"));
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("\"reference_points\": 4"), std::string::npos) << r.out;
+  // An ROI that holds nothing: a defined result and a warning, not a failure.
+  write("far.yaml", "boxes:\n  - center: [5, 5, 5]\n    size: [0.1, 0.1, 0.1]\n");
+  r = run("eval --json --reference " + path("a.pcd") + " --reconstruction " +
+          path("a.pcd") + " --roi " + path("far.yaml"));
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("\"valid\": false"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("\"chamfer\": null"), std::string::npos) << r.out;
+  EXPECT_NE(r.err.find("warning"), std::string::npos);
+}

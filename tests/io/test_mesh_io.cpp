@@ -1,0 +1,294 @@
+#include <cstring>
+#include <fstream>
+#include <map>
+#include <sstream>
+
+#include <gtest/gtest.h>
+
+#include <plantnbv/common/error.h>
+#include <plantnbv/io/mesh_io.h>
+
+#include "io_test_util.h"
+
+using plantnbv::FormatError;
+using plantnbv::InvalidArgumentError;
+using plantnbv::IoError;
+using plantnbv::TriangleMesh;
+using plantnbv::io::loadMesh;
+using plantnbv::io::MeshLoadOptions;
+using plantnbv::test::fixture;
+using plantnbv::test::TempDir;
+using plantnbv::test::thrownMessage;
+
+namespace {
+
+/// How many triangles carry each node name.
+std::map<std::string, std::size_t> trianglesPerName(const TriangleMesh& m)
+{
+  std::map<std::string, std::size_t> count;
+  for (auto id : m.node_ids)
+    ++count[m.node_names.at(id)];
+  return count;
+}
+
+void expectBounds(const TriangleMesh& m, const Eigen::Vector3f& lo,
+                  const Eigen::Vector3f& hi)
+{
+  Eigen::Vector3f min, max;
+  m.bounds(min, max);
+  for (int i = 0; i < 3; ++i) {
+    EXPECT_NEAR(min[i], lo[i], 1e-6) << "axis " << i;
+    EXPECT_NEAR(max[i], hi[i], 1e-6) << "axis " << i;
+  }
+}
+
+/// The plant of both Collada fixtures, in metres and Z up: the stem box and the leaf.
+void expectColladaPlant(const TriangleMesh& m)
+{
+  ASSERT_EQ(m.size(), 16u);
+  expectBounds(m, {-0.01f, -0.01f, 0.0f}, {0.11f, 0.05f, 0.5f});
+  const auto names = trianglesPerName(m);
+  EXPECT_EQ(names.size(), 2u);
+  EXPECT_EQ(names.at("Stem"), 12u);
+  EXPECT_EQ(names.at("Leaf_1"), 4u);
+  // The leaf's tip: local (0, 0, 2) cm translated by (1, 0, 30) cm.
+  bool tip = false;
+  for (std::size_t t = 0; t < m.size(); ++t)
+    for (auto i : m.triangles[t])
+      if ((m.vertices[i] - Eigen::Vector3f(0.01f, 0.0f, 0.32f)).norm() < 1e-6f) {
+        tip = true;
+        EXPECT_EQ(m.node_names[m.node_ids[t]], "Leaf_1");
+      }
+  EXPECT_TRUE(tip);
+}
+
+} // namespace
+
+TEST(MeshIo, ColladaCentimetresZUpLoadsInMetresZUp)
+{
+  const TriangleMesh m = loadMesh(fixture("plant_cm_zup.dae"));
+  expectColladaPlant(m);
+  EXPECT_TRUE(m.labels.empty());
+}
+
+TEST(MeshIo, ColladaCentimetresYUpLoadsInMetresZUp)
+{
+  const TriangleMesh m = loadMesh(fixture("plant_cm_yup.dae"));
+  expectColladaPlant(m);
+}
+
+TEST(MeshIo, ColladaOptionsOverrideTheFile)
+{
+  // scale replaces the file's unit (it is not applied on top of it).
+  MeshLoadOptions raw;
+  raw.scale = 1.0;
+  expectBounds(loadMesh(fixture("plant_cm_zup.dae"), raw), {-1, -1, 0}, {11, 5, 50});
+  MeshLoadOptions mm;
+  mm.scale = 0.001;
+  expectBounds(loadMesh(fixture("plant_cm_zup.dae"), mm), {-0.001f, -0.001f, 0.0f},
+               {0.011f, 0.005f, 0.05f});
+  // Declaring the Y_UP file Z up keeps its axes: the stem then stands along Y.
+  MeshLoadOptions z;
+  z.up_axis = MeshLoadOptions::UpAxis::z;
+  expectBounds(loadMesh(fixture("plant_cm_yup.dae"), z), {-0.01f, 0.0f, -0.05f},
+               {0.11f, 0.5f, 0.01f});
+  // Declaring the Z_UP file Y up rotates it as a Y-up file: the stem then lies along -Y.
+  MeshLoadOptions y;
+  y.up_axis = MeshLoadOptions::UpAxis::y;
+  expectBounds(loadMesh(fixture("plant_cm_zup.dae"), y), {-0.01f, -0.5f, -0.01f},
+               {0.11f, 0.0f, 0.05f});
+}
+
+namespace {
+
+/// A one-triangle Collada file: (0,0,0), (1,0,0), (0,2,0) in a node "n1" without a name
+/// attribute, translated by (0, 0, 5), with the given <asset> content.
+std::string oneTriangleCollada(const std::string& asset)
+{
+  return R"(<?xml version="1.0" encoding="utf-8"?>
+<COLLADA xmlns="http://www.collada.org/2005/11/COLLADASchema" version="1.4.1">
+  <asset>)" +
+         asset +
+         R"(</asset>
+  <library_geometries>
+    <geometry id="tri"><mesh>
+      <source id="p"><float_array id="pa" count="9">0 0 0  1 0 0  0 2 0</float_array>
+        <technique_common><accessor source="#pa" count="3" stride="3">
+          <param name="X" type="float"/><param name="Y" type="float"/><param name="Z" type="float"/>
+        </accessor></technique_common></source>
+      <vertices id="v"><input semantic="POSITION" source="#p"/></vertices>
+      <triangles count="1"><input semantic="VERTEX" source="#v" offset="0"/><p>0 1 2</p></triangles>
+    </mesh></geometry>
+  </library_geometries>
+  <library_visual_scenes><visual_scene id="s">
+    <node id="n1"><translate>0 0 5</translate><instance_geometry url="#tri"/></node>
+  </visual_scene></library_visual_scenes>
+  <scene><instance_visual_scene url="#s"/></scene>
+</COLLADA>
+)";
+}
+
+} // namespace
+
+TEST(MeshIo, ColladaDefaultsAndXUp)
+{
+  TempDir dir;
+  // No <unit> or <up_axis>: metres and Y up (Collada's default), so (x, y, z) -> (x, -z,
+  // y).
+  const TriangleMesh m = loadMesh(dir.write("bare.dae", oneTriangleCollada("")));
+  ASSERT_EQ(m.size(), 1u);
+  expectBounds(m, {0, -5, 0}, {1, -5, 2}); // the single top node keeps its translation
+  // A node without a name attribute is named by its id.
+  EXPECT_EQ(m.node_names.at(m.node_ids[0]), "n1");
+
+  // X_UP in inches: file (x, y, z) -> (-y, -z, x), times 0.0254.
+  const TriangleMesh x = loadMesh(dir.write(
+      "xup.dae",
+      oneTriangleCollada("<unit meter='0.0254' name='inch'/><up_axis> X_UP </up_axis>")));
+  expectBounds(x, {-0.0508f, -0.127f, 0.0f}, {0.0f, -0.127f, 0.0254f});
+}
+
+TEST(MeshIo, ObjObjectsAndGroupsKeepTheirNames)
+{
+  const TriangleMesh objects = loadMesh(fixture("two_objects.obj"));
+  ASSERT_EQ(objects.size(), 3u); // the quad is triangulated
+  EXPECT_EQ(trianglesPerName(objects),
+            (std::map<std::string, std::size_t>{{"Stem", 2}, {"Leaf_1", 1}}));
+  expectBounds(objects, {0, 0, 0}, {0.12f, 0.05f, 0.4f}); // Z up, as written
+
+  const TriangleMesh groups = loadMesh(fixture("two_groups.obj"));
+  ASSERT_EQ(groups.size(), 2u);
+  EXPECT_EQ(trianglesPerName(groups),
+            (std::map<std::string, std::size_t>{{"Stem", 1}, {"Leaf_1", 1}}));
+  // The Leaf_1 face uses relative indices -4 -2 -1: vertices 1, 3 and 4.
+  for (std::size_t t = 0; t < groups.size(); ++t)
+    if (groups.node_names[groups.node_ids[t]] == "Leaf_1") {
+      Eigen::Vector3f sum = Eigen::Vector3f::Zero();
+      for (auto i : groups.triangles[t])
+        sum += groups.vertices[i];
+      EXPECT_EQ(sum, Eigen::Vector3f(0, 1, 1));
+    }
+}
+
+TEST(MeshIo, AsciiStl)
+{
+  const TriangleMesh m = loadMesh(fixture("tetra_ascii.stl"));
+  ASSERT_EQ(m.size(), 4u);
+  EXPECT_EQ(m.vertices.size(), 4u); // corners shared once normals are dropped
+  expectBounds(m, {0, 0, 0}, {0.1f, 0.1f, 0.2f});
+  EXPECT_EQ(m.node_names.at(m.node_ids[0]), "tetra");
+  double area = 0.0;
+  for (std::size_t t = 0; t < m.size(); ++t)
+    area += m.triangleArea(t);
+  // Three right triangles (0.005 + 0.01 + 0.01) and the slanted face (0.015).
+  EXPECT_NEAR(area, 0.04, 1e-7);
+}
+
+namespace {
+
+std::string binaryStl(std::uint32_t declared,
+                      const std::vector<std::array<float, 9>>& tris)
+{
+  std::string s(80, ' ');
+  s.append(reinterpret_cast<const char*>(&declared), 4); // the test host is little-endian
+  for (const auto& t : tris) {
+    const float normal[3] = {0, 0, 1};
+    s.append(reinterpret_cast<const char*>(normal), 12);
+    s.append(reinterpret_cast<const char*>(t.data()), 36);
+    s.append(2, '\0');
+  }
+  return s;
+}
+
+} // namespace
+
+TEST(MeshIo, BinaryStlAndItsTriangleLimit)
+{
+  TempDir dir;
+  const std::vector<std::array<float, 9>> tris = {{0, 0, 0, 1, 0, 0, 0, 1, 0},
+                                                  {1, 0, 0, 1, 1, 0, 0, 1, 0}};
+  const std::string path = dir.write("square.stl", binaryStl(2, tris));
+  const TriangleMesh m = loadMesh(path);
+  ASSERT_EQ(m.size(), 2u);
+  EXPECT_EQ(m.vertices.size(), 4u);
+  expectBounds(m, {0, 0, 0}, {1, 1, 0});
+
+  MeshLoadOptions small;
+  small.max_triangles = 1;
+  const std::string msg = thrownMessage<FormatError>([&] { loadMesh(path, small); });
+  EXPECT_NE(msg.find("max_triangles"), std::string::npos) << msg;
+  small.max_triangles = 2;
+  EXPECT_EQ(loadMesh(path, small).size(), 2u);
+}
+
+TEST(MeshIo, MaxTrianglesForAssimpFormats)
+{
+  MeshLoadOptions options;
+  options.max_triangles = 15;
+  EXPECT_THROW(loadMesh(fixture("plant_cm_zup.dae"), options), FormatError);
+  options.max_triangles = 16;
+  EXPECT_EQ(loadMesh(fixture("plant_cm_zup.dae"), options).size(), 16u);
+  options.max_triangles = 2;
+  EXPECT_THROW(loadMesh(fixture("two_objects.obj"), options), FormatError);
+}
+
+TEST(MeshIo, ScaleAndUpAxisForFormatsWithoutUnits)
+{
+  MeshLoadOptions options;
+  options.scale = 10.0;
+  expectBounds(loadMesh(fixture("two_objects.obj"), options), {0, 0, 0},
+               {1.2f, 0.5f, 4.0f});
+  options.scale = 0.0;
+  options.up_axis = MeshLoadOptions::UpAxis::y;
+  // Y up -> Z up maps (x, y, z) to (x, -z, y).
+  expectBounds(loadMesh(fixture("two_objects.obj"), options), {0, -0.4f, 0},
+               {0.12f, 0.0f, 0.05f});
+}
+
+TEST(MeshIo, InvalidOptions)
+{
+  MeshLoadOptions options;
+  options.scale = -1.0;
+  EXPECT_THROW(loadMesh(fixture("two_objects.obj"), options), InvalidArgumentError);
+  options.scale = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_THROW(loadMesh(fixture("two_objects.obj"), options), InvalidArgumentError);
+}
+
+TEST(MeshIo, Errors)
+{
+  TempDir dir;
+  const std::string missing = dir.file("missing.dae");
+  const std::string msg = thrownMessage<IoError>([&] { loadMesh(missing); });
+  EXPECT_NE(msg.find(missing), std::string::npos) << msg;
+
+  const std::string unknown =
+      thrownMessage<FormatError>([&] { loadMesh(dir.write("model.fbx", "x")); });
+  EXPECT_NE(unknown.find("'.fbx'"), std::string::npos) << unknown;
+  EXPECT_NE(unknown.find(".dae"), std::string::npos) << unknown;
+
+  EXPECT_THROW(loadMesh(dir.write("garbage.dae", "<COLLADA><oops")), FormatError);
+  EXPECT_THROW(loadMesh(dir.write("garbage.stl", "\x01\x02\x03 not an stl")),
+               FormatError);
+  // Assimp 5.2.5 hangs on a non-integer in an index list; we refuse the file first.
+  std::ifstream fixture_in(fixture("plant_cm_zup.dae"));
+  std::stringstream dae;
+  dae << fixture_in.rdbuf();
+  std::string broken = dae.str();
+  broken.replace(broken.find("<p>0 2 1"), 8, "<p>0 2 x");
+  const std::string hang =
+      thrownMessage<FormatError>([&] { loadMesh(dir.write("hang.dae", broken)); });
+  EXPECT_NE(hang.find("<p>"), std::string::npos) << hang;
+  const std::string bad_unit = thrownMessage<FormatError>([&] {
+    loadMesh(
+        dir.write("unit.dae", "<COLLADA><asset><unit meter=\"-2\"/></asset></COLLADA>"));
+  });
+  EXPECT_NE(bad_unit.find("meter"), std::string::npos) << bad_unit;
+  // A file with only points and lines has no triangles.
+  const std::string lines = thrownMessage<FormatError>([&] {
+    loadMesh(dir.write("lines.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nl 1 2\nl 2 3\n"));
+  });
+  EXPECT_NE(lines.find("no triangles"), std::string::npos) << lines;
+  // Non-finite vertices are refused.
+  EXPECT_THROW(loadMesh(dir.write("nan.obj", "v 0 0 0\nv nan 0 0\nv 0 1 0\nf 1 2 3\n")),
+               FormatError);
+}

@@ -1,0 +1,159 @@
+#include <fstream>
+#include <sstream>
+
+#include <gtest/gtest.h>
+
+#include <plantnbv/common/error.h>
+#include <plantnbv/io/roi_io.h>
+
+#include "io_test_util.h"
+
+using plantnbv::Box;
+using plantnbv::FormatError;
+using plantnbv::IoError;
+using plantnbv::Roi;
+using plantnbv::io::loadRoi;
+using plantnbv::io::saveRoi;
+using plantnbv::test::fixture;
+using plantnbv::test::TempDir;
+using plantnbv::test::thrownMessage;
+
+namespace {
+
+/// The message loadRoi gives for a file with this content.
+std::string roiError(const TempDir& dir, const std::string& content)
+{
+  const std::string path = dir.write("rois.yaml", content);
+  return thrownMessage<FormatError>([&] { loadRoi(path); });
+}
+
+} // namespace
+
+TEST(RoiIo, LoadsTheFixture)
+{
+  const Roi roi = loadRoi(fixture("rois.yaml"));
+  ASSERT_EQ(roi.size(), 3u);
+  EXPECT_EQ(roi.boxes()[0].name, "main_stem");
+  EXPECT_EQ(roi.boxes()[0].center, Eigen::Vector3d(1.0, 0.0, 1.15));
+  EXPECT_EQ(roi.boxes()[0].size, Eigen::Vector3d(0.05, 0.05, 0.7));
+  EXPECT_EQ(roi.boxes()[1].name, "leaf_node_1");
+  EXPECT_EQ(roi.boxes()[2].name, "");
+  EXPECT_EQ(roi.boxes()[2].center, Eigen::Vector3d(1.01, -0.02, 1.25));
+}
+
+TEST(RoiIo, SaveLoadRoundTripIsExact)
+{
+  TempDir dir;
+  Roi roi;
+  roi.addBox(Box({0.1 + 0.2, 1.0 / 3.0, -1e-17}, {0.05, 2.0 / 3.0, 1e300}, "main_stem"));
+  roi.addBox(Box({1, 2, 3}, {0, 0, 0}, "odd: name # with \"quotes\" and \\"));
+  roi.addBox(Box({-0.0, 5e-324, 123456789.123456789}, {1, 1, 1}));
+  roi.addBox(Box({0, 0, 0}, {1, 1, 1}, "null"));
+  roi.addBox(Box({0, 0, 0}, {1, 1, 1}, "tab\tand\nnewline"));
+  const std::string path = dir.file("roi.yaml");
+  saveRoi(path, roi);
+  const Roi back = loadRoi(path);
+  ASSERT_EQ(back.size(), roi.size());
+  for (std::size_t i = 0; i < roi.size(); ++i) {
+    EXPECT_EQ(back.boxes()[i].name, roi.boxes()[i].name) << i;
+    EXPECT_EQ(back.boxes()[i].center, roi.boxes()[i].center) << i;
+    EXPECT_EQ(back.boxes()[i].size, roi.boxes()[i].size) << i;
+  }
+  // Short numbers stay short (shortest exact form, not 17 digits everywhere).
+  std::ifstream in(path);
+  std::stringstream text;
+  text << in.rdbuf();
+  EXPECT_NE(text.str().find("[0.30000000000000004, 0.3333333333333333, -1e-17]"),
+            std::string::npos)
+      << text.str();
+  EXPECT_NE(text.str().find("name: main_stem\n"), std::string::npos) << text.str();
+}
+
+TEST(RoiIo, SaveErrors)
+{
+  TempDir dir;
+  EXPECT_THROW(saveRoi(dir.file("empty.yaml"), Roi()), plantnbv::InvalidArgumentError);
+  Roi roi;
+  roi.addBox(Box({0, 0, 0}, {1, 1, 1}));
+  EXPECT_THROW(saveRoi(dir.file("no/dir/roi.yaml"), roi), IoError);
+}
+
+TEST(RoiIo, NegativeSizeNamesTheBoxAndKey)
+{
+  TempDir dir;
+  const std::string msg = roiError(dir, "boxes:\n"
+                                        "  - center: [0, 0, 0]\n"
+                                        "    size: [1, 1, 1]\n"
+                                        "  - center: [0, 0, 0]\n"
+                                        "    size: [1, 1, 1]\n"
+                                        "  - center: [0, 0, 0]\n"
+                                        "    size: [0.1, -0.2, 0.3]\n");
+  EXPECT_EQ(msg,
+            dir.file("rois.yaml") +
+                ": box 2: size must be 3 non-negative numbers, got [0.1, -0.2, 0.3]");
+}
+
+TEST(RoiIo, MissingKey)
+{
+  TempDir dir;
+  const std::string msg = roiError(dir, "boxes:\n  - name: a\n    center: [0, 0, 0]\n");
+  EXPECT_NE(msg.find("box 0: missing key 'size'"), std::string::npos) << msg;
+}
+
+TEST(RoiIo, WrongVectorLengthAndNonNumbers)
+{
+  TempDir dir;
+  std::string msg = roiError(dir, "boxes:\n  - center: [0, 0]\n    size: [1, 1, 1]\n");
+  EXPECT_NE(msg.find("box 0: center must be 3 numbers, got [0, 0]"), std::string::npos)
+      << msg;
+  msg = roiError(dir, "boxes:\n  - center: [0, x, 0]\n    size: [1, 1, 1]\n");
+  EXPECT_NE(msg.find("center must be 3 numbers, got [0, x, 0]"), std::string::npos)
+      << msg;
+  msg = roiError(dir, "boxes:\n  - center: 5\n    size: [1, 1, 1]\n");
+  EXPECT_NE(msg.find("center must be 3 numbers, got 5"), std::string::npos) << msg;
+  msg = roiError(dir, "boxes:\n  - center: [0, 0, .nan]\n    size: [1, 1, 1]\n");
+  EXPECT_NE(msg.find("center must be 3 numbers"), std::string::npos) << msg;
+  msg = roiError(dir,
+                 "boxes:\n  - name: [a]\n    center: [0, 0, 0]\n    size: [1, 1, 1]\n");
+  EXPECT_NE(msg.find("box 0: name must be a string"), std::string::npos) << msg;
+}
+
+TEST(RoiIo, UnknownKeysAreRejected)
+{
+  TempDir dir;
+  std::string msg = roiError(
+      dir, "boxes:\n  - center: [0, 0, 0]\n    size: [1, 1, 1]\n    colour: red\n");
+  EXPECT_NE(msg.find("box 0: unknown key 'colour'"), std::string::npos) << msg;
+  msg =
+      roiError(dir, "boxes:\n  - center: [0, 0, 0]\n    size: [1, 1, 1]\nframe: world\n");
+  EXPECT_NE(msg.find("unknown key 'frame'"), std::string::npos) << msg;
+}
+
+TEST(RoiIo, NotYamlAndNoBoxes)
+{
+  TempDir dir;
+  std::string msg = roiError(dir, "boxes: [ {center: [0, 0, 0]\n");
+  EXPECT_NE(msg.find("not valid YAML"), std::string::npos) << msg;
+  msg = roiError(dir, "");
+  EXPECT_NE(msg.find("no boxes"), std::string::npos) << msg;
+  msg = roiError(dir, "boxes: []\n");
+  EXPECT_NE(msg.find("no boxes"), std::string::npos) << msg;
+  msg = roiError(dir, "boxes:\n");
+  EXPECT_NE(msg.find("no boxes"), std::string::npos) << msg;
+  msg = roiError(dir, "{}\n");
+  EXPECT_NE(msg.find("no boxes"), std::string::npos) << msg;
+  msg = roiError(dir, "boxes: {center: [0, 0, 0]}\n");
+  EXPECT_NE(msg.find("boxes must be a list"), std::string::npos) << msg;
+  msg = roiError(dir, "- just a list\n");
+  EXPECT_NE(msg.find("expected a map"), std::string::npos) << msg;
+  msg = roiError(dir, "boxes:\n  - 3\n");
+  EXPECT_NE(msg.find("box 0: expected a map"), std::string::npos) << msg;
+}
+
+TEST(RoiIo, MissingFileIsAnIoError)
+{
+  TempDir dir;
+  const std::string path = dir.file("absent.yaml");
+  const std::string msg = thrownMessage<IoError>([&] { loadRoi(path); });
+  EXPECT_NE(msg.find(path), std::string::npos) << msg;
+}

@@ -1,0 +1,361 @@
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <set>
+#include <tuple>
+#include <unistd.h>
+
+#include <gtest/gtest.h>
+#include <octomap/ColorOcTree.h>
+#include <octomap/OcTree.h>
+#include <pcl/point_cloud.h>
+#include <pcl/point_types.h>
+
+#include <plantnbv/common/error.h>
+#include <plantnbv/common/random.h>
+#include <plantnbv/filters/voxel_grid_filter.h>
+#include <plantnbv/octree/octree_conversion.h>
+
+using plantnbv::CloudXYZ;
+using plantnbv::OccupiedVoxelOptions;
+
+namespace {
+
+using Voxel = std::array<long, 3>;
+using PointSet = std::set<std::array<float, 3>>;
+
+PointSet toSet(const CloudXYZ& cloud)
+{
+  PointSet s;
+  for (const auto& p : cloud)
+    s.insert({p.x, p.y, p.z});
+  return s;
+}
+
+/// The centre of voxel v as OctoMap and VoxelGridFilter compute it.
+std::array<float, 3> centre(const Voxel& v, double res)
+{
+  return {static_cast<float>((v[0] + 0.5) * res), static_cast<float>((v[1] + 0.5) * res),
+          static_cast<float>((v[2] + 0.5) * res)};
+}
+
+/// `per_voxel` points in each voxel, at least 10% of a voxel from its faces.
+CloudXYZ::Ptr pointsIn(const std::set<Voxel>& voxels, double res, plantnbv::Rng& rng,
+                       int per_voxel = 3)
+{
+  auto cloud = std::make_shared<CloudXYZ>();
+  for (const Voxel& v : voxels)
+    for (int k = 0; k < per_voxel; ++k)
+      cloud->push_back(
+          pcl::PointXYZ(static_cast<float>((v[0] + rng.uniform(0.1, 0.9)) * res),
+                        static_cast<float>((v[1] + rng.uniform(0.1, 0.9)) * res),
+                        static_cast<float>((v[2] + rng.uniform(0.1, 0.9)) * res)));
+  return cloud;
+}
+
+std::set<Voxel> randomVoxels(plantnbv::Rng& rng, int n, long range)
+{
+  std::set<Voxel> voxels;
+  while (static_cast<int>(voxels.size()) < n)
+    voxels.insert({static_cast<long>(rng.index(2 * range)) - range,
+                   static_cast<long>(rng.index(2 * range)) - range,
+                   static_cast<long>(rng.index(2 * range)) - range});
+  return voxels;
+}
+
+/// All voxels of the cube [lo, lo + 8)^3.
+std::set<Voxel> block8(long lx, long ly, long lz)
+{
+  std::set<Voxel> voxels;
+  for (long i = 0; i < 8; ++i)
+    for (long j = 0; j < 8; ++j)
+      for (long k = 0; k < 8; ++k)
+        voxels.insert({lx + i, ly + j, lz + k});
+  return voxels;
+}
+
+PointSet centres(const std::set<Voxel>& voxels, double res)
+{
+  PointSet s;
+  for (const Voxel& v : voxels)
+    s.insert(centre(v, res));
+  return s;
+}
+
+CloudXYZ occupied(const octomap::OcTree& tree, const OccupiedVoxelOptions& options = {})
+{
+  CloudXYZ cloud;
+  plantnbv::occupiedVoxelCentres(tree, cloud, options);
+  return cloud;
+}
+
+/// A fresh path in the temporary directory, unique per test and process.
+std::string tempPath(const std::string& name)
+{
+  const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+  return (std::filesystem::temp_directory_path() /
+          ("plantnbv_" + std::string(info->name()) + "_" + std::to_string(::getpid()) +
+           "_" + name))
+      .string();
+}
+
+} // namespace
+
+TEST(OctreeConversion, RoundTripKeepsTheVoxelSet)
+{
+  plantnbv::Rng rng(3);
+  const double res = 0.01;
+  const auto voxels = randomVoxels(rng, 500, 30);
+  const auto cloud = pointsIn(voxels, res, rng);
+  const auto tree = plantnbv::cloudToOcTree(*cloud, res);
+  EXPECT_DOUBLE_EQ(tree->getResolution(), res);
+  const CloudXYZ out = occupied(*tree);
+  EXPECT_EQ(out.size(), voxels.size());
+  EXPECT_EQ(out.width, out.size());
+  EXPECT_EQ(out.height, 1u);
+  EXPECT_EQ(toSet(out), centres(voxels, res));
+}
+
+TEST(OctreeConversion, SameLatticeAsVoxelGridFilterCentres)
+{
+  // Uniform points, faces included (multiples of the resolution): VoxelGridFilter's
+  // centre mode and OctoMap's keys compute the voxel index the same way, bit for bit.
+  plantnbv::Rng rng(8);
+  const double res = 0.003;
+  auto cloud = std::make_shared<CloudXYZ>();
+  for (int n = 0; n < 20000; ++n) {
+    if (n % 4 == 0)
+      cloud->push_back(pcl::PointXYZ(static_cast<float>((rng.index(200) - 100.0) * res),
+                                     static_cast<float>((rng.index(200) - 100.0) * res),
+                                     static_cast<float>((rng.index(200) - 100.0) * res)));
+    else
+      cloud->push_back(pcl::PointXYZ(static_cast<float>(rng.uniform(-0.3, 0.3)),
+                                     static_cast<float>(rng.uniform(-0.3, 0.3)),
+                                     static_cast<float>(rng.uniform(-0.3, 0.3))));
+  }
+  plantnbv::VoxelGridFilter<pcl::PointXYZ> grid;
+  grid.setLeafSize(res);
+  grid.setOutputVoxelCentres(true);
+  grid.setInputCloud(cloud);
+  CloudXYZ voxelized;
+  grid.filter(voxelized);
+
+  const CloudXYZ out = occupied(*plantnbv::cloudToOcTree(*cloud, res));
+  EXPECT_GT(out.size(), 15000u);
+  EXPECT_EQ(out.size(), voxelized.size());
+  EXPECT_EQ(toSet(out), toSet(voxelized));
+}
+
+TEST(OctreeConversion, PrunedNodesAreExpanded)
+{
+  // Two full 8x8x8 blocks aligned with the octree (keys 32776.. and 32752..): OctoMap
+  // prunes each into one node two levels above the voxels.
+  const double res = 0.005;
+  auto voxels = block8(8, 8, 8);
+  const auto negative = block8(-16, -16, 8);
+  voxels.insert(negative.begin(), negative.end());
+  plantnbv::Rng rng(4);
+  const auto tree = plantnbv::cloudToOcTree(*pointsIn(voxels, res, rng, 1), res);
+  ASSERT_EQ(tree->getNumLeafNodes(), 2u); // pruned: the expansion is exercised
+  for (auto it = tree->begin_leafs(); it != tree->end_leafs(); ++it)
+    EXPECT_EQ(it.getDepth(), tree->getTreeDepth() - 3);
+
+  const CloudXYZ out = occupied(*tree);
+  EXPECT_EQ(out.size(), 1024u);
+  EXPECT_EQ(toSet(out), centres(voxels, res));
+  // Each expanded node in increasing (x, y, z) order, z fastest.
+  for (std::size_t n = 1; n < out.size(); ++n)
+    if (n != 512) {
+      const auto& a = out[n - 1];
+      const auto& b = out[n];
+      EXPECT_LT(std::tie(a.x, a.y, a.z), std::tie(b.x, b.y, b.z)) << n;
+    }
+}
+
+TEST(OctreeConversion, OneHitPerVoxelAndThreshold)
+{
+  const double res = 0.01;
+  auto cloud = std::make_shared<CloudXYZ>();
+  for (int k = 0; k < 5; ++k) // five points in voxel (0, 0, 0)
+    cloud->push_back(pcl::PointXYZ(0.001f * (k + 1), 0.005f, 0.005f));
+  cloud->push_back(pcl::PointXYZ(0.015f, 0.005f, 0.005f)); // one in voxel (1, 0, 0)
+  cloud->push_back(pcl::PointXYZ(0.035f, 0.005f, 0.005f)); // one in voxel (3, 0, 0)
+  auto tree = plantnbv::cloudToOcTree(*cloud, res);
+  const auto* a = tree->search(0.005, 0.005, 0.005);
+  const auto* b = tree->search(0.015, 0.005, 0.005);
+  ASSERT_TRUE(a && b);
+  EXPECT_FLOAT_EQ(a->getLogOdds(), b->getLogOdds()); // five points, still one hit
+  EXPECT_NEAR(a->getOccupancy(), 0.7, 1e-6);
+
+  // A second hit on voxel (3, 0, 0): occupancy 0.7^2 / (0.7^2 + 0.3^2) = 0.845.
+  tree->updateNode(octomap::point3d(0.035f, 0.005f, 0.005f), true);
+  OccupiedVoxelOptions options;
+  EXPECT_EQ(occupied(*tree, options).size(), 3u); // tree threshold 0.5
+  options.threshold = 0.69;
+  EXPECT_EQ(occupied(*tree, options).size(), 3u);
+  options.threshold = 0.7 + 1e-6; // strict >: the single hits drop out
+  const CloudXYZ strong = occupied(*tree, options);
+  ASSERT_EQ(strong.size(), 1u);
+  EXPECT_FLOAT_EQ(strong[0].x, 0.035f);
+  options.threshold = 0.9;
+  EXPECT_EQ(occupied(*tree, options).size(), 0u);
+  // A negative threshold uses the tree's own.
+  tree->setOccupancyThres(0.8);
+  options.threshold = -1.0;
+  EXPECT_EQ(occupied(*tree, options).size(), 1u);
+
+  options.threshold = std::nan("");
+  EXPECT_THROW(occupied(*tree, options), plantnbv::InvalidArgumentError);
+  options.threshold = 1.5;
+  EXPECT_THROW(occupied(*tree, options), plantnbv::InvalidArgumentError);
+}
+
+TEST(OctreeConversion, RoiOption)
+{
+  // A pruned 8x8x8 block and a lone voxel; the ROI cuts 3 of the block's 8 x-layers.
+  const double res = 0.005;
+  auto voxels = block8(8, 8, 8);
+  voxels.insert({-20, 0, 0});
+  plantnbv::Rng rng(6);
+  const auto tree = plantnbv::cloudToOcTree(*pointsIn(voxels, res, rng, 1), res);
+  ASSERT_EQ(tree->getNumLeafNodes(), 2u);
+
+  OccupiedVoxelOptions options;
+  options.roi.addBox(plantnbv::Box::fromMinMax(Eigen::Vector3d(10 * res, -1, -1),
+                                               Eigen::Vector3d(13 * res, 1, 1)));
+  std::set<Voxel> expected;
+  for (const Voxel& v : voxels)
+    if (v[0] >= 10 && v[0] <= 12)
+      expected.insert(v);
+  ASSERT_EQ(expected.size(), 192u);
+  const CloudXYZ out = occupied(*tree, options);
+  EXPECT_EQ(toSet(out), centres(expected, res));
+
+  // Two boxes: the lone voxel too.
+  options.roi.addBox(plantnbv::Box(Eigen::Vector3d(-19.5 * res, 0.5 * res, 0.5 * res),
+                                   Eigen::Vector3d(res, res, res) * 0.5));
+  EXPECT_EQ(occupied(*tree, options).size(), 193u);
+}
+
+TEST(OctreeConversion, WriteAndReadBtAndOt)
+{
+  plantnbv::Rng rng(9);
+  const double res = 0.004;
+  auto voxels = randomVoxels(rng, 300, 25);
+  const auto block = block8(24, 0, -8);
+  voxels.insert(block.begin(), block.end());
+  const auto tree = plantnbv::cloudToOcTree(*pointsIn(voxels, res, rng), res);
+  const PointSet expected = centres(voxels, res);
+  ASSERT_EQ(toSet(occupied(*tree)), expected);
+
+  for (const std::string ext : {".bt", ".ot", ".BT"}) {
+    const std::string path = tempPath("map" + ext);
+    plantnbv::writeOcTree(path, *tree);
+    const auto back = plantnbv::readOcTree(path);
+    ASSERT_TRUE(back) << ext;
+    EXPECT_DOUBLE_EQ(back->getResolution(), res) << ext;
+    const CloudXYZ out = occupied(*back);
+    EXPECT_EQ(out.size(), expected.size()) << ext;
+    EXPECT_EQ(toSet(out), expected) << ext;
+    std::filesystem::remove(path);
+  }
+  // The caller's tree is not turned into maximum likelihood by writing .bt.
+  const auto* node =
+      tree->search(centre(*voxels.begin(), res)[0], centre(*voxels.begin(), res)[1],
+                   centre(*voxels.begin(), res)[2]);
+  ASSERT_TRUE(node);
+  EXPECT_NEAR(node->getOccupancy(), 0.7, 1e-6);
+}
+
+TEST(OctreeConversion, ReadErrors)
+{
+  // Missing file and a directory: IoError naming the path.
+  const std::string missing = tempPath("missing.bt");
+  try {
+    plantnbv::readOcTree(missing);
+    ADD_FAILURE();
+  } catch (const plantnbv::IoError& e) {
+    EXPECT_NE(std::string(e.what()).find(missing), std::string::npos);
+  }
+  EXPECT_THROW(plantnbv::readOcTree(std::filesystem::temp_directory_path().string()),
+               plantnbv::IoError);
+
+  // Not an octree (whatever the extension): FormatError.
+  for (const std::string name : {"text.bt", "text.ot", "empty.ot"}) {
+    const std::string path = tempPath(name);
+    {
+      std::ofstream f(path);
+      if (name != "empty.ot")
+        f << "ply\nformat ascii 1.0\nend_header\n";
+    }
+    EXPECT_THROW(plantnbv::readOcTree(path), plantnbv::FormatError) << name;
+    std::filesystem::remove(path);
+  }
+
+  // An OctoMap file of another tree type: FormatError naming it.
+  const std::string color_path = tempPath("color.ot");
+  octomap::ColorOcTree color(0.01);
+  color.updateNode(octomap::point3d(0.1f, 0.1f, 0.1f), true);
+  ASSERT_TRUE(color.write(color_path));
+  try {
+    plantnbv::readOcTree(color_path);
+    ADD_FAILURE();
+  } catch (const plantnbv::FormatError& e) {
+    EXPECT_NE(std::string(e.what()).find("ColorOcTree"), std::string::npos) << e.what();
+  }
+  std::filesystem::remove(color_path);
+}
+
+TEST(OctreeConversion, WriteErrors)
+{
+  octomap::OcTree tree(0.01);
+  tree.updateNode(octomap::point3d(0.0f, 0.0f, 0.0f), true);
+  const std::string path = tempPath("map.pcd");
+  EXPECT_THROW(plantnbv::writeOcTree(path, tree), plantnbv::FormatError);
+  EXPECT_FALSE(std::filesystem::exists(path)); // checked before creating the file
+  EXPECT_THROW(plantnbv::writeOcTree(tempPath("no_extension"), tree),
+               plantnbv::FormatError);
+  EXPECT_THROW(plantnbv::writeOcTree(tempPath("no_such_dir") + "/map.bt", tree),
+               plantnbv::IoError);
+}
+
+TEST(OctreeConversion, CloudToOcTreeSkipsNonFinitePoints)
+{
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  const float inf = std::numeric_limits<float>::infinity();
+  CloudXYZ cloud;
+  cloud.push_back(pcl::PointXYZ(0.005f, 0.005f, 0.005f));
+  cloud.push_back(pcl::PointXYZ(nan, 0.0f, 0.0f));
+  cloud.push_back(pcl::PointXYZ(0.0f, inf, 0.0f));
+  cloud.push_back(pcl::PointXYZ(nan, nan, nan));
+  cloud.push_back(pcl::PointXYZ(-0.005f, 0.005f, 0.005f));
+  cloud.is_dense = false;
+  const auto tree = plantnbv::cloudToOcTree(cloud, 0.01);
+  EXPECT_EQ(toSet(occupied(*tree)), centres({{0, 0, 0}, {-1, 0, 0}}, 0.01));
+  // Nothing else is known.
+  EXPECT_EQ(tree->getNumLeafNodes(), 2u);
+  EXPECT_EQ(plantnbv::cloudToOcTree(CloudXYZ(), 0.01)->size(), 0u);
+}
+
+TEST(OctreeConversion, CloudToOcTreeRejectsBadInput)
+{
+  CloudXYZ cloud;
+  cloud.push_back(pcl::PointXYZ(0.0f, 0.0f, 0.0f));
+  for (const double bad :
+       {0.0, -0.01, std::nan(""), std::numeric_limits<double>::infinity()})
+    EXPECT_THROW(plantnbv::cloudToOcTree(cloud, bad), plantnbv::InvalidArgumentError)
+        << bad;
+  try {
+    plantnbv::cloudToOcTree(cloud, -0.25);
+    ADD_FAILURE();
+  } catch (const plantnbv::InvalidArgumentError& e) {
+    EXPECT_NE(std::string(e.what()).find("-0.25"), std::string::npos) << e.what();
+  }
+  // Beyond OctoMap's +-32768 voxels: 1 km at 1 cm.
+  cloud.push_back(pcl::PointXYZ(1000.0f, 0.0f, 0.0f));
+  EXPECT_THROW(plantnbv::cloudToOcTree(cloud, 0.01), plantnbv::InvalidArgumentError);
+  EXPECT_NO_THROW(plantnbv::cloudToOcTree(cloud, 0.1));
+}
