@@ -1,0 +1,132 @@
+#include <cmath>
+#include <sstream>
+
+#include <plantnbv/common/error.h>
+#include <plantnbv/plant/plant_rois.h>
+
+namespace plantnbv {
+
+namespace {
+
+constexpr const char* kKindNames[] = {"whole_plant", "main_stem", "leaf_nodes", "fruits"};
+
+Roi stemCentredRoi(const Plant& plant, const Eigen::Vector3d& size,
+                   double center_height_m, const char* name)
+{
+  if (!std::isfinite(center_height_m)) {
+    std::ostringstream s;
+    s << name << " ROI: centre height " << center_height_m << " must be finite";
+    throw InvalidArgumentError(s.str());
+  }
+  // The stem axis point at that height, at that height exactly (the stem is not quite
+  // vertical, so the interpolated z may differ in the last bits).
+  Eigen::Vector3d center = plant.stemPointAtHeight(center_height_m);
+  center.z() = plant.base_position.z() + center_height_m;
+  return Roi({Box(center, size, name)});
+}
+
+} // namespace
+
+const char* plantRoiKindName(PlantRoiKind kind)
+{
+  return kKindNames[static_cast<int>(kind)];
+}
+
+PlantRoiKind plantRoiKindFromName(const std::string& name)
+{
+  for (int i = 0; i < 4; ++i)
+    if (name == kKindNames[i])
+      return static_cast<PlantRoiKind>(i);
+  throw InvalidArgumentError("unknown plant ROI '" + name +
+                             "' (expected whole_plant, main_stem, leaf_nodes or fruits)");
+}
+
+Roi wholePlantRoi(const Plant& plant, const Eigen::Vector3d& size, double center_height_m)
+{
+  return stemCentredRoi(plant, size, center_height_m, "whole_plant");
+}
+
+Roi mainStemRoi(const Plant& plant, const Eigen::Vector3d& size, double center_height_m)
+{
+  return stemCentredRoi(plant, size, center_height_m, "main_stem");
+}
+
+std::vector<int> defaultLeafNodeIndices(const Plant& plant)
+{
+  const int n = static_cast<int>(plant.anatomy.leaves.size());
+  if (n < 3) {
+    std::vector<int> all(n);
+    for (int i = 0; i < n; ++i)
+      all[i] = i;
+    return all;
+  }
+  // Low, middle, high; with n >= 3 the rounded positions are distinct.
+  std::vector<int> chosen;
+  for (double f : {0.2, 0.5, 0.8})
+    chosen.push_back(static_cast<int>(std::lround(f * (n - 1))));
+  return chosen;
+}
+
+Roi leafNodeRoi(const Plant& plant, const std::vector<int>& leaf_indices,
+                const Eigen::Vector3d& size)
+{
+  Roi roi;
+  const auto& leaves = plant.anatomy.leaves;
+  for (int i : leaf_indices) {
+    if (i < 0 || i >= static_cast<int>(leaves.size()))
+      throw InvalidArgumentError("leaf node " + std::to_string(i) +
+                                 " does not exist (plant '" + plant.name + "' has " +
+                                 std::to_string(leaves.size()) + " leaves)");
+    roi.addBox(Box(leaves[i].node.position, size, "leaf_node_" + std::to_string(i)));
+  }
+  return roi;
+}
+
+Roi leafNodeRoi(const Plant& plant)
+{
+  return leafNodeRoi(plant, defaultLeafNodeIndices(plant));
+}
+
+Roi fruitRoi(const Plant& plant, double margin_m)
+{
+  if (!(margin_m >= 0.0) || !std::isfinite(margin_m)) {
+    std::ostringstream s;
+    s << "fruit ROI: margin " << margin_m << " m must be finite and >= 0";
+    throw InvalidArgumentError(s.str());
+  }
+  Roi roi;
+  const auto& trusses = plant.anatomy.trusses;
+  for (std::size_t t = 0; t < trusses.size(); ++t) {
+    if (trusses[t].fruits.empty())
+      continue;
+    Eigen::Vector3d lo = Eigen::Vector3d::Constant(INFINITY);
+    Eigen::Vector3d hi = -lo;
+    for (const Fruit& f : trusses[t].fruits) {
+      // 1 um more: mesh vertices on the sphere, rounded to float, stay inside.
+      const Eigen::Vector3d reach =
+          Eigen::Vector3d::Constant(f.radius_m + margin_m + 1e-6);
+      lo = lo.cwiseMin(f.center - reach);
+      hi = hi.cwiseMax(f.center + reach);
+    }
+    roi.addBox(Box::fromMinMax(lo, hi, "truss_" + std::to_string(t)));
+  }
+  return roi;
+}
+
+Roi plantRoi(const Plant& plant, PlantRoiKind kind)
+{
+  switch (kind) {
+  case PlantRoiKind::whole_plant:
+    return wholePlantRoi(plant);
+  case PlantRoiKind::main_stem:
+    return mainStemRoi(plant);
+  case PlantRoiKind::leaf_nodes:
+    return leafNodeRoi(plant);
+  case PlantRoiKind::fruits:
+    return fruitRoi(plant);
+  }
+  throw InvalidArgumentError("unknown plant ROI kind " +
+                             std::to_string(static_cast<int>(kind)));
+}
+
+} // namespace plantnbv
