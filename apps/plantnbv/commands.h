@@ -13,6 +13,7 @@ namespace app {
 
 void addSampleCommand(CLI::App& app);
 void addEvalCommand(CLI::App& app);
+void addPlantCommand(CLI::App& app);
 
 /// Milliseconds since construction, for the timings the tools print.
 class Stopwatch {

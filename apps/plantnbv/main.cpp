@@ -19,6 +19,7 @@ int main(int argc, char** argv)
   app.set_version_flag("--version", "plantnbv 0.1.0");
   plantnbv::app::addSampleCommand(app);
   plantnbv::app::addEvalCommand(app);
+  plantnbv::app::addPlantCommand(app);
 
   // CLI11 reports an unknown command as "a subcommand is required": name it instead.
   if (argc > 1 && argv[1][0] != '-') {

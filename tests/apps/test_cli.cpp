@@ -14,6 +14,8 @@
 #include <pcl/point_types.h>
 
 #include <plantnbv/io/cloud_io.h>
+#include <plantnbv/io/mesh_io.h>
+#include <plantnbv/io/roi_io.h>
 #include <plantnbv/octree/octree_conversion.h>
 
 namespace fs = std::filesystem;
@@ -250,4 +252,55 @@ TEST_F(CliTest, EvalReadsMeshesAndOctreesAndCropsToAnRoi)
   EXPECT_NE(r.out.find("\"valid\": false"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("\"chamfer\": null"), std::string::npos) << r.out;
   EXPECT_NE(r.err.find("warning"), std::string::npos);
+}
+
+TEST_F(CliTest, PlantWritesMeshAnatomyAndRoisInTheWorldFrame)
+{
+  const ToolRun r = run("plant --seed 2 --yaw-deg 90 -o " + path("p"));
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("tomato_seed2"), std::string::npos) << r.out;
+  const plantnbv::TriangleMesh mesh = plantnbv::io::loadMesh(path("p/plant.ply"));
+  ASSERT_EQ(mesh.labels.size(), mesh.size());
+  Eigen::Vector3f lo, hi;
+  mesh.bounds(lo, hi);
+  EXPECT_NEAR(lo.z(), 0.8f, 1e-4f); // the paper's base height
+  const plantnbv::Roi all = plantnbv::io::loadRoi(path("p/rois.yaml"));
+  const plantnbv::Roi stem = plantnbv::io::loadRoi(path("p/roi_main_stem.yaml"));
+  const plantnbv::Roi nodes = plantnbv::io::loadRoi(path("p/roi_leaf_nodes.yaml"));
+  ASSERT_EQ(stem.size(), 1u);
+  EXPECT_EQ(nodes.size(), 3u);
+  EXPECT_GE(all.size(), 5u);
+  EXPECT_NEAR(stem.boxes()[0].center.z(), 1.15, 1e-9); // Table 1: 0.35 m above the base
+  EXPECT_NE(slurp(path("p/anatomy.json")).find("\"plantnbv-anatomy\""),
+            std::string::npos);
+}
+
+TEST_F(CliTest, PlantLoadsAModelInCentimetresAndLabelsItByName)
+{
+  const ToolRun r =
+      run("plant --model " + kFixtures +
+          "/plant_cm_zup.dae --labels stem=Stem,leaflet=Leaf.* -o " + path("m"));
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("height 0.500 m"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("stem 12, leaflet 4"), std::string::npos) << r.out;
+  const plantnbv::TriangleMesh mesh = plantnbv::io::loadMesh(path("m/plant.ply"));
+  Eigen::Vector3f lo, hi;
+  mesh.bounds(lo, hi);
+  EXPECT_NEAR(hi.z() - lo.z(), 0.5f, 1e-5f);
+  EXPECT_NEAR(lo.z(), 0.8f, 1e-6f);
+}
+
+TEST_F(CliTest, PlantBadArgumentsAreOneLineErrors)
+{
+  expectOneLineError(run("plant --seed 1 --stage -1 -o " + path("x")), 1, "growth_stage");
+  expectOneLineError(run("plant --model " + kFixtures +
+                         "/plant_cm_zup.dae --labels trunk=.* -o " + path("x")),
+                     1, "trunk");
+  expectOneLineError(run("plant --model " + path("nothing.dae") + " -o " + path("x")), 1,
+                     "nothing.dae");
+  expectOneLineError(run("plant -o " + path("x")), 1, "--seed");
+  expectOneLineError(run("plant --seed 1 --base 1,2 -o " + path("x")), 1, "--base");
+  expectOneLineError(run("plant --seed 1 --model m.dae -o " + path("x")), 2, "excludes");
+  expectOneLineError(run("plant --seed 1 --labels stem=.* -o " + path("x")), 2,
+                     "--model");
 }

@@ -1,0 +1,118 @@
+// plantnbv plant: generate (or load) a plant, place it in the world, and write its mesh,
+// anatomy and ROIs; optionally a snapshot.
+
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <iostream>
+
+#include <CLI/CLI.hpp>
+
+#include <plantnbv/common/error.h>
+#include <plantnbv/io/mesh_io.h>
+#include <plantnbv/io/roi_io.h>
+#include <plantnbv/plant/anatomy_json.h>
+
+#include "commands.h"
+#include "plant_source.h"
+
+namespace plantnbv {
+namespace app {
+
+namespace {
+
+struct PlantCommandOptions {
+  PlantSourceOptions source;
+  std::string output_dir;
+  std::string snapshot;
+};
+
+void writeText(const std::filesystem::path& path, const std::string& text)
+{
+  std::ofstream out(path);
+  out << text << "\n";
+  if (!out)
+    throw IoError("cannot write '" + path.string() + "'");
+}
+
+std::string summary(const PlacedPlant& placed)
+{
+  const Plant& p = placed.plant;
+  std::size_t leaflets = 0, fruits = 0;
+  for (const auto& leaf : p.anatomy.leaves)
+    leaflets += leaf.leaflets.size();
+  for (const auto& truss : p.anatomy.trusses)
+    fruits += truss.fruits.size();
+  Eigen::Vector3f lo, hi;
+  p.mesh.bounds(lo, hi);
+  std::ostringstream s;
+  s << std::fixed << std::setprecision(3) << p.name << " (" << placed.description
+    << "): height " << p.anatomy.top_height_m << " m";
+  if (!p.anatomy.leaves.empty())
+    s << " (stem " << p.anatomy.stem_height_m << " m), " << p.anatomy.leaves.size()
+      << " leaves with " << leaflets << " leaflets, " << p.anatomy.trusses.size()
+      << " trusses with " << fruits << " fruits";
+  s << ", " << p.mesh.size() << " triangles (";
+  // Triangles per part: shows at a glance whether a --labels mapping matched.
+  std::vector<std::size_t> per_label(7, 0);
+  for (PartLabel l : p.mesh.labels)
+    ++per_label[std::min<std::size_t>(static_cast<std::size_t>(l), 6)];
+  bool first = true;
+  for (std::size_t l = 0; l < per_label.size(); ++l)
+    if (per_label[l]) {
+      s << (first ? "" : ", ") << partLabelName(static_cast<PartLabel>(l)) << " "
+        << per_label[l];
+      first = false;
+    }
+  s << (p.mesh.labels.empty() ? "unlabelled" : "") << "); bounding box x [" << lo.x()
+    << ", " << hi.x() << "], y [" << lo.y() << ", " << hi.y() << "], z [" << lo.z()
+    << ", " << hi.z() << "] m; base at (" << p.base_position.x() << ", "
+    << p.base_position.y() << ", " << p.base_position.z() << "), yaw "
+    << std::setprecision(1) << p.yaw_rad * 180.0 / M_PI << " deg.";
+  return s.str();
+}
+
+void runPlant(const PlantCommandOptions& o)
+{
+  Stopwatch clock;
+  const PlacedPlant placed = makePlacedPlant(o.source);
+  const double make_ms = clock.ms();
+  const std::filesystem::path dir(o.output_dir);
+  std::error_code ec;
+  std::filesystem::create_directories(dir, ec);
+  if (ec)
+    throw IoError("cannot create output directory '" + o.output_dir +
+                  "': " + ec.message());
+
+  io::saveMeshPly((dir / "plant.ply").string(), placed.plant.mesh);
+  writeText(dir / "anatomy.json", anatomyToJson(placed.plant));
+  // All ROIs in one file (boxes named by level), and one file per level for --roi.
+  Roi all;
+  for (const auto& [level, roi] : placed.rois) {
+    io::saveRoi((dir / ("roi_" + level + ".yaml")).string(), roi);
+    for (const Box& b : roi.boxes())
+      all.addBox(b);
+  }
+  io::saveRoi((dir / "rois.yaml").string(), all);
+
+  std::cout << summary(placed) << "\n";
+  std::cout << "wrote " << (dir / "plant.ply").string()
+            << ", anatomy.json, rois.yaml and " << placed.rois.size()
+            << " roi_<level>.yaml (" << all.size() << " boxes); generated in "
+            << std::setprecision(0) << std::fixed << make_ms << " ms\n";
+}
+
+} // namespace
+
+void addPlantCommand(CLI::App& app)
+{
+  auto o = std::make_shared<PlantCommandOptions>();
+  CLI::App* cmd = app.add_subcommand(
+      "plant", "Generate or load a plant, place it, write mesh, anatomy and ROIs");
+  addPlantSourceOptions(*cmd, o->source);
+  cmd->add_option("-o,--output", o->output_dir, "Output directory")->required();
+  cmd->callback([o]() { runPlant(*o); });
+}
+
+} // namespace app
+} // namespace plantnbv
