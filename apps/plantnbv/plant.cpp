@@ -7,8 +7,11 @@
 #include <iostream>
 
 #include <CLI/CLI.hpp>
+#include <pcl/point_cloud.h>
+#include <pcl/point_types.h>
 
 #include <plantnbv/common/error.h>
+#include <plantnbv/io/cloud_io.h>
 #include <plantnbv/io/mesh_io.h>
 #include <plantnbv/io/roi_io.h>
 #include <plantnbv/plant/anatomy_json.h>
@@ -44,7 +47,7 @@ std::string summary(const PlacedPlant& placed)
   for (const auto& truss : p.anatomy.trusses)
     fruits += truss.fruits.size();
   Eigen::Vector3f lo, hi;
-  p.mesh.bounds(lo, hi);
+  p.bounds(lo, hi);
   std::ostringstream s;
   s << std::fixed << std::setprecision(3) << p.name << " (" << placed.description
     << "): height " << p.anatomy.top_height_m << " m";
@@ -52,10 +55,13 @@ std::string summary(const PlacedPlant& placed)
     s << " (stem " << p.anatomy.stem_height_m << " m), " << p.anatomy.leaves.size()
       << " leaves with " << leaflets << " leaflets, " << p.anatomy.trusses.size()
       << " trusses with " << fruits << " fruits";
-  s << ", " << p.mesh.size() << " triangles (";
-  // Triangles per part: shows at a glance whether a --labels mapping matched.
+  const bool scan = !p.scan_points.empty();
+  const auto& labels = scan ? p.scan_labels : p.mesh.labels;
+  s << ", " << (scan ? p.scan_points.size() : p.mesh.size())
+    << (scan ? " scan points (" : " triangles (");
+  // Elements per part: shows at a glance whether a --labels mapping matched.
   std::vector<std::size_t> per_label(7, 0);
-  for (PartLabel l : p.mesh.labels)
+  for (PartLabel l : labels)
     ++per_label[std::min<std::size_t>(static_cast<std::size_t>(l), 6)];
   bool first = true;
   for (std::size_t l = 0; l < per_label.size(); ++l)
@@ -64,12 +70,25 @@ std::string summary(const PlacedPlant& placed)
         << per_label[l];
       first = false;
     }
-  s << (p.mesh.labels.empty() ? "unlabelled" : "") << "); bounding box x [" << lo.x()
-    << ", " << hi.x() << "], y [" << lo.y() << ", " << hi.y() << "], z [" << lo.z()
-    << ", " << hi.z() << "] m; base at (" << p.base_position.x() << ", "
-    << p.base_position.y() << ", " << p.base_position.z() << "), yaw "
-    << std::setprecision(1) << p.yaw_rad * 180.0 / M_PI << " deg.";
+  s << (labels.empty() ? "unlabelled" : "") << "); bounding box x [" << lo.x() << ", "
+    << hi.x() << "], y [" << lo.y() << ", " << hi.y() << "], z [" << lo.z() << ", "
+    << hi.z() << "] m; base at (" << p.base_position.x() << ", " << p.base_position.y()
+    << ", " << p.base_position.z() << "), yaw " << std::setprecision(1)
+    << p.yaw_rad * 180.0 / M_PI << " deg.";
   return s.str();
+}
+
+CloudXYZL scanCloud(const Plant& plant)
+{
+  CloudXYZL cloud;
+  for (std::size_t i = 0; i < plant.scan_points.size(); ++i) {
+    pcl::PointXYZL p;
+    p.getVector3fMap() = plant.scan_points[i];
+    p.label =
+        plant.scan_labels.empty() ? 0u : static_cast<std::uint32_t>(plant.scan_labels[i]);
+    cloud.push_back(p);
+  }
+  return cloud;
 }
 
 void runPlant(const PlantCommandOptions& o)
@@ -84,7 +103,13 @@ void runPlant(const PlantCommandOptions& o)
     throw IoError("cannot create output directory '" + o.output_dir +
                   "': " + ec.message());
 
-  io::saveMeshPly((dir / "plant.ply").string(), placed.plant.mesh);
+  // A scanned plant stays a cloud: plant.pcd instead of plant.ply.
+  const Plant& plant = placed.plant;
+  const std::string geometry_file = plant.scan_points.empty() ? "plant.ply" : "plant.pcd";
+  if (plant.scan_points.empty())
+    io::saveMeshPly((dir / geometry_file).string(), plant.mesh);
+  else
+    io::saveCloud((dir / geometry_file).string(), scanCloud(plant));
   writeText(dir / "anatomy.json", anatomyToJson(placed.plant));
   // All ROIs in one file (boxes named by level), and one file per level for --roi.
   Roi all;
@@ -96,7 +121,7 @@ void runPlant(const PlantCommandOptions& o)
   io::saveRoi((dir / "rois.yaml").string(), all);
 
   std::cout << summary(placed) << "\n";
-  std::cout << "wrote " << (dir / "plant.ply").string()
+  std::cout << "wrote " << (dir / geometry_file).string()
             << ", anatomy.json, rois.yaml and " << placed.rois.size()
             << " roi_<level>.yaml (" << all.size() << " boxes); generated in "
             << std::setprecision(0) << std::fixed << make_ms << " ms\n";

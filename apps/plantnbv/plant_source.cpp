@@ -5,8 +5,12 @@
 #include <sstream>
 
 #include <CLI/CLI.hpp>
+#include <pcl/point_cloud.h>
+#include <pcl/point_types.h>
 
 #include <plantnbv/common/error.h>
+#include <plantnbv/io/cloud_io.h>
+#include <plantnbv/io/file_kind.h>
 #include <plantnbv/io/mesh_io.h>
 #include <plantnbv/io/roi_io.h>
 #include <plantnbv/plant/plant_model.h>
@@ -21,7 +25,8 @@ void addPlantSourceOptions(CLI::App& cmd, PlantSourceOptions& o)
   auto* seed = cmd.add_option(
       "--seed", o.seed, "Generate a tomato plant from this seed (0-9: the default set)");
   auto* model = cmd.add_option("--model", o.model,
-                               "Load a plant mesh instead (.dae .obj .ply .stl .wrl)");
+                               "Load a plant instead: a mesh (.dae .obj .ply .stl .wrl) "
+                               "or a scanned cloud (.pcd .ply)");
   seed->excludes(model);
   model->excludes(seed);
   cmd.add_option("--stage", o.stage,
@@ -82,11 +87,35 @@ PlacedPlant makePlacedPlant(const PlantSourceOptions& o)
     return out;
   }
 
-  TriangleMesh mesh = io::loadMesh(o.model);
-  if (!o.labels.empty())
-    applyPartLabelRules(mesh, parsePartLabelRules(o.labels));
-  out.plant = plantFromMesh(std::move(mesh),
-                            std::filesystem::path(o.model).stem().string(), o.keep_frame);
+  const std::string name = std::filesystem::path(o.model).stem().string();
+  switch (io::fileKind(o.model)) {
+  case io::FileKind::mesh: {
+    TriangleMesh mesh = io::loadMesh(o.model);
+    if (!o.labels.empty())
+      applyPartLabelRules(mesh, parsePartLabelRules(o.labels));
+    out.plant = plantFromMesh(std::move(mesh), name, o.keep_frame);
+    break;
+  }
+  case io::FileKind::cloud: { // a scan: kept as points, labels from its label field
+    if (!o.labels.empty())
+      throw InvalidArgumentError("--labels maps mesh node names; the scan '" + o.model +
+                                 "' has none (its labels come from its label field)");
+    CloudXYZL cloud;
+    io::loadCloud(o.model, cloud);
+    std::vector<Eigen::Vector3f> points;
+    std::vector<PartLabel> labels;
+    for (const auto& p : cloud)
+      if (std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z)) {
+        points.push_back(p.getVector3fMap());
+        labels.push_back(static_cast<PartLabel>(std::min<std::uint32_t>(p.label, 6)));
+      }
+    out.plant = plantFromScan(std::move(points), std::move(labels), name, o.keep_frame);
+    break;
+  }
+  case io::FileKind::octree:
+    throw FormatError("--model '" + o.model +
+                      "' is an octree; expected a mesh or a cloud");
+  }
   if (!o.keep_frame)
     posePlant(out.plant, base, yaw_rad);
   out.rois.emplace_back("whole_plant", boundingBoxRoi(out.plant));

@@ -304,3 +304,26 @@ TEST_F(CliTest, PlantBadArgumentsAreOneLineErrors)
   expectOneLineError(run("plant --seed 1 --labels stem=.* -o " + path("x")), 2,
                      "--model");
 }
+
+TEST_F(CliTest, PlantKeepsAScannedCloudAsPoints)
+{
+  // A labelled scan: samples of the fixture mesh, then placed and turned like a plant.
+  ASSERT_EQ(run("sample --mesh " + kFixtures +
+                "/plant_like.ply --points 3000 --labels -o " + path("scan.ply"))
+                .code,
+            0);
+  const ToolRun r =
+      run("plant --model " + path("scan.ply") + " --yaw-deg 30 -o " + path("s"));
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("3000 scan points"), std::string::npos) << r.out;
+  pcl::PointCloud<pcl::PointXYZL> placed;
+  plantnbv::io::loadCloud(path("s/plant.pcd"), placed);
+  ASSERT_EQ(placed.size(), 3000u);
+  float min_z = placed[0].z;
+  for (const auto& p : placed)
+    min_z = std::min(min_z, p.z);
+  EXPECT_NEAR(min_z, 0.8f, 1e-5f);
+  expectOneLineError(
+      run("plant --model " + path("scan.ply") + " --labels stem=.* -o " + path("t")), 1,
+      "node names");
+}

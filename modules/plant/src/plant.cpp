@@ -1,4 +1,5 @@
 #include <cmath>
+#include <limits>
 #include <sstream>
 
 #include <Eigen/Geometry>
@@ -26,6 +27,19 @@ Eigen::Vector3d Plant::stemPointAtHeight(double height_m) const
   return axis.back();
 }
 
+void Plant::bounds(Eigen::Vector3f& min, Eigen::Vector3f& max) const
+{
+  if (mesh.vertices.empty() && scan_points.empty())
+    throw InvalidArgumentError("plant '" + name + "' has neither mesh nor scan points");
+  min = Eigen::Vector3f::Constant(std::numeric_limits<float>::max());
+  max = -min;
+  for (const auto* points : {&mesh.vertices, &scan_points})
+    for (const auto& v : *points) {
+      min = min.cwiseMin(v);
+      max = max.cwiseMax(v);
+    }
+}
+
 void posePlant(Plant& plant, const Eigen::Vector3d& base_position, double yaw_rad)
 {
   if (!base_position.allFinite() || !std::isfinite(yaw_rad)) {
@@ -43,11 +57,12 @@ void posePlant(Plant& plant, const Eigen::Vector3d& base_position, double yaw_ra
   auto point = [&](Eigen::Vector3d& p) { p = base_position + R * (p - old_base); };
   auto direction = [&](Eigen::Vector3d& v) { v = R * v; };
 
-  for (auto& v : plant.mesh.vertices) {
-    Eigen::Vector3d p = v.cast<double>();
-    point(p);
-    v = p.cast<float>();
-  }
+  for (auto* points : {&plant.mesh.vertices, &plant.scan_points})
+    for (auto& v : *points) {
+      Eigen::Vector3d p = v.cast<double>();
+      point(p);
+      v = p.cast<float>();
+    }
   PlantAnatomy& a = plant.anatomy;
   for (auto& p : a.stem_axis)
     point(p);

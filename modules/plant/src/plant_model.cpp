@@ -56,27 +56,59 @@ std::vector<std::size_t> applyPartLabelRules(TriangleMesh& mesh,
   return counts;
 }
 
-Plant plantFromMesh(TriangleMesh mesh, const std::string& name, bool keep_frame)
+namespace {
+
+/// Moves the plant's geometry so that the centre of its bounding box's bottom face is the
+/// origin (or records it as the base with keep_frame), and sets the axis-only anatomy.
+void placeAtBottomCentre(Plant& plant, bool keep_frame)
 {
-  if (mesh.empty())
-    throw InvalidArgumentError("plant model '" + name + "' has no triangles");
   Eigen::Vector3f lo, hi;
-  mesh.bounds(lo, hi);
+  plant.bounds(lo, hi);
   const Eigen::Vector3d bottom_centre(0.5 * (double(lo.x()) + hi.x()),
                                       0.5 * (double(lo.y()) + hi.y()), lo.z());
-  Plant plant;
-  plant.name = name;
   if (!keep_frame)
-    for (auto& v : mesh.vertices)
-      v = (v.cast<double>() - bottom_centre).cast<float>();
+    for (auto* points : {&plant.mesh.vertices, &plant.scan_points})
+      for (auto& v : *points)
+        v = (v.cast<double>() - bottom_centre).cast<float>();
   plant.base_position = keep_frame ? bottom_centre : Eigen::Vector3d::Zero();
-  plant.mesh = std::move(mesh);
   const double height = double(hi.z()) - lo.z();
   plant.anatomy.stem_axis = {plant.base_position,
                              plant.base_position + Eigen::Vector3d(0, 0, height)};
   plant.anatomy.stem_radius_m = {0.0, 0.0};
   plant.anatomy.stem_height_m = height;
   plant.anatomy.top_height_m = height;
+}
+
+} // namespace
+
+Plant plantFromMesh(TriangleMesh mesh, const std::string& name, bool keep_frame)
+{
+  if (mesh.empty())
+    throw InvalidArgumentError("plant model '" + name + "' has no triangles");
+  Plant plant;
+  plant.name = name;
+  plant.mesh = std::move(mesh);
+  placeAtBottomCentre(plant, keep_frame);
+  return plant;
+}
+
+Plant plantFromScan(std::vector<Eigen::Vector3f> points, std::vector<PartLabel> labels,
+                    const std::string& name, bool keep_frame)
+{
+  if (points.empty())
+    throw InvalidArgumentError("plant scan '" + name + "' has no points");
+  if (!labels.empty() && labels.size() != points.size())
+    throw InvalidArgumentError("plant scan '" + name + "' has " +
+                               std::to_string(labels.size()) + " labels for " +
+                               std::to_string(points.size()) + " points");
+  for (const auto& p : points)
+    if (!p.allFinite())
+      throw InvalidArgumentError("plant scan '" + name + "' has non-finite points");
+  Plant plant;
+  plant.name = name;
+  plant.scan_points = std::move(points);
+  plant.scan_labels = std::move(labels);
+  placeAtBottomCentre(plant, keep_frame);
   return plant;
 }
 

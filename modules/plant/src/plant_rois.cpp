@@ -131,10 +131,8 @@ Roi plantRoi(const Plant& plant, PlantRoiKind kind)
 
 Roi boundingBoxRoi(const Plant& plant)
 {
-  if (plant.mesh.vertices.empty())
-    throw InvalidArgumentError("plant '" + plant.name + "' has no mesh to bound");
   Eigen::Vector3f lo, hi;
-  plant.mesh.bounds(lo, hi);
+  plant.bounds(lo, hi);
   return Roi({Box::fromMinMax(lo.cast<double>(), hi.cast<double>(), "whole_plant")});
 }
 

@@ -83,11 +83,19 @@ struct PlantAnatomy {
 struct Plant {
   std::string name;  ///< e.g. "tomato_seed3" or "tomato_seed3_simplified"
   TriangleMesh mesh; ///< part label per triangle, node names per part
+  /// A plant given as a point cloud (a scan, e.g. Pheno4D or TomatoWUR): its points and
+  /// their labels (one each, or none). Empty for mesh plants; a scan plant has no mesh.
+  std::vector<Eigen::Vector3f> scan_points;
+  std::vector<PartLabel> scan_labels;
   PlantAnatomy anatomy;
   /// Position of the stem base in the current frame (origin until posed).
   Eigen::Vector3d base_position{Eigen::Vector3d::Zero()};
   /// Rotation about the plant's vertical axis relative to the generated plant (rad).
   double yaw_rad = 0.0;
+
+  /// \brief Bounds of the mesh vertices and scan points.
+  /// \throws InvalidArgumentError when the plant has neither.
+  void bounds(Eigen::Vector3f& min, Eigen::Vector3f& max) const;
 
   /// \brief Number of leaf nodes (= leaves).
   std::size_t leafNodeCount() const { return anatomy.leaves.size(); }

@@ -41,4 +41,11 @@ std::vector<std::size_t> applyPartLabelRules(TriangleMesh& mesh,
 /// work. \throws InvalidArgumentError for an empty mesh.
 Plant plantFromMesh(TriangleMesh mesh, const std::string& name, bool keep_frame = false);
 
+/// \brief A plant from a scanned point cloud (finite points only), placed like
+/// plantFromMesh places a mesh; `labels` is empty or holds one label per point.
+/// \throws InvalidArgumentError for no points, non-finite points or a label count that
+/// differs from the point count.
+Plant plantFromScan(std::vector<Eigen::Vector3f> points, std::vector<PartLabel> labels,
+                    const std::string& name, bool keep_frame = false);
+
 } // namespace plantnbv

@@ -65,9 +65,9 @@ Roi leafNodeRoi(const Plant& plant);
 /// \throws InvalidArgumentError for a negative or non-finite margin.
 Roi fruitRoi(const Plant& plant, double margin_m = 0.0);
 
-/// \brief The axis-aligned bounding box of the plant's mesh, named "whole_plant": the
-/// whole-plant ROI of a loaded model, whose size the paper's 0.3 x 0.3 x 0.7 m box may
-/// not fit. \throws InvalidArgumentError for an empty mesh.
+/// \brief The axis-aligned bounding box of the plant's mesh or scan, named "whole_plant":
+/// the whole-plant ROI of a loaded model, whose size the paper's 0.3 x 0.3 x 0.7 m box
+/// may not fit. \throws InvalidArgumentError for an empty mesh.
 Roi boundingBoxRoi(const Plant& plant);
 
 /// \brief The ROI of `kind` with the defaults above.
