@@ -7,6 +7,7 @@
 #include <CLI/CLI.hpp>
 
 #include <plantnbv/common/error.h>
+#include <plantnbv/viz/display.h>
 
 #include "commands.h"
 
@@ -20,6 +21,14 @@ int main(int argc, char** argv)
   plantnbv::app::addSampleCommand(app);
   plantnbv::app::addEvalCommand(app);
   plantnbv::app::addPlantCommand(app);
+
+  // Rendering needs X: without a display, run again under xvfb-run (when installed;
+  // otherwise the renderer reports the missing display as a one-line error).
+  for (int i = 1; i < argc; ++i)
+    if (std::string(argv[i]).rfind("--snapshot", 0) == 0) {
+      plantnbv::viz::reexecUnderXvfbIfNeeded(argc, argv);
+      break;
+    }
 
   // CLI11 reports an unknown command as "a subcommand is required": name it instead.
   if (argc > 1 && argv[1][0] != '-') {

@@ -15,6 +15,8 @@
 #include <plantnbv/io/mesh_io.h>
 #include <plantnbv/io/roi_io.h>
 #include <plantnbv/plant/anatomy_json.h>
+#include <plantnbv/viz/palette.h>
+#include <plantnbv/viz/snapshot.h>
 
 #include "commands.h"
 #include "plant_source.h"
@@ -91,6 +93,21 @@ CloudXYZL scanCloud(const Plant& plant)
   return cloud;
 }
 
+/// The plant coloured by part with its ROIs as wireframes, one colour per level.
+void renderSnapshot(const PlacedPlant& placed, const std::string& png_path)
+{
+  viz::SceneSnapshot::Config config;
+  config.width = 900;
+  config.height = 1200; // plants are tall
+  config.title = placed.plant.name;
+  viz::SceneSnapshot snapshot(config);
+  snapshot.addMesh(placed.plant.mesh);
+  snapshot.addPoints(placed.plant.scan_points, placed.plant.scan_labels);
+  for (std::size_t i = 0; i < placed.rois.size(); ++i)
+    snapshot.addRoi(placed.rois[i].second, viz::distinctColor(static_cast<int>(i)));
+  snapshot.render(png_path);
+}
+
 void runPlant(const PlantCommandOptions& o)
 {
   Stopwatch clock;
@@ -125,6 +142,12 @@ void runPlant(const PlantCommandOptions& o)
             << ", anatomy.json, rois.yaml and " << placed.rois.size()
             << " roi_<level>.yaml (" << all.size() << " boxes); generated in "
             << std::setprecision(0) << std::fixed << make_ms << " ms\n";
+  if (!o.snapshot.empty()) {
+    Stopwatch render_clock;
+    renderSnapshot(placed, o.snapshot);
+    std::cout << "snapshot " << o.snapshot << " in " << std::setprecision(0) << std::fixed
+              << render_clock.ms() << " ms\n";
+  }
 }
 
 } // namespace
@@ -136,6 +159,9 @@ void addPlantCommand(CLI::App& app)
       "plant", "Generate or load a plant, place it, write mesh, anatomy and ROIs");
   addPlantSourceOptions(*cmd, o->source);
   cmd->add_option("-o,--output", o->output_dir, "Output directory")->required();
+  cmd->add_option("--snapshot", o->snapshot,
+                  "Also render a PNG: parts coloured, ROIs as wireframes (needs X; "
+                  "without a display the tool re-runs itself under xvfb-run)");
   cmd->callback([o]() { runPlant(*o); });
 }
 

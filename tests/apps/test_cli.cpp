@@ -327,3 +327,24 @@ TEST_F(CliTest, PlantKeepsAScannedCloudAsPoints)
       run("plant --model " + path("scan.ply") + " --labels stem=.* -o " + path("t")), 1,
       "node names");
 }
+
+TEST_F(CliTest, PlantSnapshotIsAPortraitPngEvenWithoutADisplay)
+{
+  // ctest runs without DISPLAY: the tool re-runs itself under xvfb-run.
+  const ToolRun r =
+      run("plant --seed 0 -o " + path("p") + " --snapshot " + path("p.png"));
+  ASSERT_EQ(r.code, 0) << r.err;
+  std::ifstream png(path("p.png"), std::ios::binary);
+  unsigned char header[24] = {};
+  png.read(reinterpret_cast<char*>(header), sizeof header);
+  ASSERT_TRUE(png.good());
+  EXPECT_EQ(std::string(reinterpret_cast<char*>(header) + 1, 3), "PNG");
+  const auto be32 = [&](int at) {
+    return (header[at] << 24) | (header[at + 1] << 16) | (header[at + 2] << 8) |
+           header[at + 3];
+  };
+  EXPECT_EQ(be32(16), 900);  // width
+  EXPECT_EQ(be32(20), 1200); // height
+  // A blank image compresses to a few kB; a rendered plant does not.
+  EXPECT_GT(fs::file_size(path("p.png")), 50000u);
+}

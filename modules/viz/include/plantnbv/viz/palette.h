@@ -1,0 +1,33 @@
+#pragma once
+/// \file palette.h
+/// \brief Colours of the snapshots: the fixed colour of each plant part and a few
+/// distinct colours for ROIs and point clouds, chosen to stay apart from the plant's.
+
+#include <cstddef>
+
+#include <plantnbv/common/triangle_mesh.h>
+
+namespace plantnbv {
+namespace viz {
+
+/// \brief A colour: red, green and blue in [0, 1] (sRGB, as written to the PNG).
+struct Rgb {
+  float r = 0.0f;
+  float g = 0.0f;
+  float b = 0.0f;
+};
+
+/// \brief The colour plant parts of `label` are drawn in: stem brown, petiole
+/// yellow-green, leaflet green, peduncle light green, fruit red, background grey, unknown
+/// light grey. Shading darkens or lightens it in the image.
+/// \throws InvalidArgumentError for a value outside PartLabel.
+Rgb partLabelColor(PartLabel label);
+
+/// \brief The i-th of 8 saturated colours that differ from each other and from the
+/// part colours (blue, orange, magenta, cyan, purple, yellow, teal, black), repeating
+/// after 8: one per ROI or point cloud in a snapshot. The first three are used for the
+/// paper's whole-plant, main-stem and leaf-node ROIs throughout the project.
+Rgb distinctColor(std::size_t i);
+
+} // namespace viz
+} // namespace plantnbv
