@@ -311,27 +311,31 @@ TEST(ReconstructionMetrics, NonFinitePointsAreIgnored)
 
 TEST(ReconstructionMetrics, ResultDoesNotDependOnThreadCount)
 {
-  // 20k points: 20 blocks of work, shared out differently by each thread count.
-  const auto reference = randomCloud(20000, 4, noisySphere);
-  const auto reconstruction = randomCloud(15000, 5, noisySphere);
-  ReconstructionMetrics metrics;
-  metrics.setReference(reference);
-  metrics.setReconstruction(reconstruction);
-  metrics.setNumberOfThreads(1);
-  const MetricsResult one = metrics.compute();
-  std::vector<double> r_to_t_one, t_to_r_one;
-  metrics.computeDistances(r_to_t_one, t_to_r_one);
-  for (int threads : {2, 3}) {
+  // 40k points: trees built in parallel chunks, 40 blocks of queries shared out
+  // differently by each thread count; some points are NaN.
+  auto reference = randomCloud(40000, 4, noisySphere);
+  for (std::size_t i = 0; i < reference->size(); i += 997)
+    (*reference)[i].y = kNaN;
+  const auto reconstruction = randomCloud(35000, 5, noisySphere);
+  std::vector<MetricsResult> results;
+  std::vector<std::vector<double>> r_to_t(3), t_to_r(3);
+  for (int threads : {1, 2, 3}) {
+    ReconstructionMetrics metrics; // set the threads first: they build the trees too
     metrics.setNumberOfThreads(threads);
     EXPECT_EQ(metrics.getNumberOfThreads(), threads);
-    expectIdentical(one, metrics.compute());
-    std::vector<double> r_to_t, t_to_r;
-    metrics.computeDistances(r_to_t, t_to_r);
-    EXPECT_EQ(r_to_t, r_to_t_one);
-    EXPECT_EQ(t_to_r, t_to_r_one);
+    metrics.setReference(reference);
+    metrics.setReconstruction(reconstruction);
+    results.push_back(metrics.compute());
+    metrics.computeDistances(r_to_t[threads - 1], t_to_r[threads - 1]);
   }
-  EXPECT_GT(one.precision, 0.0);
-  EXPECT_LT(one.precision, 1.0);
+  for (int i : {1, 2}) {
+    expectIdentical(results[0], results[i]);
+    EXPECT_EQ(r_to_t[i], r_to_t[0]);
+    expectSameDistances(t_to_r[0], t_to_r[i], "T to R"); // NaN entries: not ==
+  }
+  EXPECT_EQ(results[0].reference_points, 40000u - 41u);
+  EXPECT_GT(results[0].precision, 0.0);
+  EXPECT_LT(results[0].precision, 1.0);
 }
 
 TEST(ReconstructionMetrics, DistancesEqualBruteForce)
@@ -360,6 +364,10 @@ TEST(ReconstructionMetrics, DistancesEqualBruteForce)
     return pcl::PointXYZ(float(1000.0 + rng.uniform(0.0, 0.06)),
                          float(-1000.0 + rng.uniform(0.0, 0.04)), float(rng.uniform()));
   });
+  // Large enough to be built in parallel chunks.
+  auto sphere_with_nans = randomCloud(40000, 21, noisySphere);
+  for (std::size_t i = 0; i < sphere_with_nans->size(); i += 1001)
+    (*sphere_with_nans)[i].z = kNaN;
   const Case cases[] = {
       {"uniform", randomCloud(2000, 6, uniformInBox), randomCloud(2000, 7, uniformInBox)},
       {"sphere", randomCloud(2000, 13, noisySphere), randomCloud(1800, 14, noisySphere)},
@@ -370,6 +378,7 @@ TEST(ReconstructionMetrics, DistancesEqualBruteForce)
       {"single point", makeCloud({{0.1f, 0.2f, 0.3f}}),
        randomCloud(2000, 17, uniformInBox)},
       {"one leaf", randomCloud(16, 18, uniformInBox), randomCloud(17, 19, uniformInBox)},
+      {"large reference", randomCloud(2000, 20, noisySphere), sphere_with_nans},
   };
   for (const Case& c : cases) {
     ReconstructionMetrics metrics;
@@ -385,24 +394,28 @@ TEST(ReconstructionMetrics, DistancesEqualBruteForce)
 
     // compute() agrees with the distances (it sums in another order: not bit-equal).
     const MetricsResult m = metrics.compute();
-    double sum_r = 0.0, sum_t = 0.0;
-    std::size_t in_r = 0, in_t = 0;
-    for (double d : r_to_t) {
-      sum_r += d;
-      in_r += d < m.rho;
-    }
-    for (double d : t_to_r) {
-      sum_t += d;
-      in_t += d < m.rho;
-    }
-    const double mean_r = sum_r / double(r_to_t.size());
-    const double mean_t = sum_t / double(t_to_r.size());
+    const auto summary = [&m](const std::vector<double>& dists, double& mean,
+                              double& share) {
+      double sum = 0.0;
+      std::size_t finite = 0, inliers = 0;
+      for (double d : dists)
+        if (!std::isnan(d)) {
+          sum += d;
+          ++finite;
+          inliers += d < m.rho;
+        }
+      mean = sum / double(finite);
+      share = double(inliers) / double(finite);
+    };
+    double mean_r, mean_t, precision, recall;
+    summary(r_to_t, mean_r, precision);
+    summary(t_to_r, mean_t, recall);
     EXPECT_NEAR(m.mean_dist_reconstruction_to_reference, mean_r, 1e-12 * mean_r)
         << c.name;
     EXPECT_NEAR(m.mean_dist_reference_to_reconstruction, mean_t, 1e-12 * mean_t)
         << c.name;
-    EXPECT_EQ(m.precision, double(in_r) / double(r_to_t.size())) << c.name;
-    EXPECT_EQ(m.recall, double(in_t) / double(t_to_r.size())) << c.name;
+    EXPECT_EQ(m.precision, precision) << c.name;
+    EXPECT_EQ(m.recall, recall) << c.name;
   }
 }
 

@@ -11,6 +11,13 @@
 #include <plantnbv/common/error.h>
 #include <plantnbv/metrics/reconstruction_metrics.h>
 
+// The leaf scan and the box test are the inner loop of every search.
+#if defined(__GNUC__)
+#define PLANTNBV_HOT_INLINE inline __attribute__((always_inline))
+#else
+#define PLANTNBV_HOT_INLINE inline
+#endif
+
 #if defined(__SSE2__) && !defined(PLANTNBV_METRICS_NO_SIMD)
 #include <emmintrin.h>
 #define PLANTNBV_METRICS_SSE2 1
@@ -25,6 +32,7 @@ constexpr double kKeyMax = 65535.0;     // 16 bits per axis, 48-bit Morton keys
 constexpr std::uint32_t kNoSplit = 64;  // split bit of a node whose keys are all equal
 constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
 constexpr std::size_t kBlock = 1024; // queries per work item and per partial sum
+constexpr std::size_t kParallelBuildMin = 32768; // smaller clouds build on one thread
 // Tree depth <= 48 key bits + 32 halvings of equal keys; one stack entry per level.
 constexpr int kMaxDepth = 96;
 constexpr double kInf = std::numeric_limits<double>::infinity();
@@ -67,7 +75,8 @@ struct Cursor {
 /// pruning is exact.
 class MortonTree {
 public:
-  void build(const CloudXYZ& cloud);
+  /// \param[in] threads at least 1
+  void build(const CloudXYZ& cloud, int threads);
 
   std::size_t size() const { return n_; }
   std::size_t cloudSize() const { return cloud_size_; }
@@ -113,13 +122,18 @@ private:
       return 0;
     return t >= kKeyMax ? 0xffff : static_cast<std::uint32_t>(t);
   }
-  std::uint32_t buildRange(std::uint32_t begin, std::uint32_t end, float lo[3],
-                           float hi[3], int depth);
+  std::uint32_t buildRange(const std::uint64_t* keys, std::uint32_t begin,
+                           std::uint32_t end, float lo[3], float hi[3], int depth);
   void leafBox(std::uint32_t begin, std::uint32_t end, float lo[3], float hi[3]) const;
   void scanLeaf(std::uint32_t begin, std::uint32_t count, const double q[3], double& best,
                 std::uint32_t& best_index) const;
   void boxSqrDists(const Node& node, const double q[3], double d[2]) const;
-  std::uint32_t startNode(const double q[3], double best, Cursor& cursor) const;
+  /// The smallest subtree whose cell holds every point nearer than sqrt(best): a node
+  /// (count 0) or a leaf's points.
+  struct Subtree {
+    std::uint32_t ref, count;
+  };
+  Subtree startNode(const double q[3], double best, Cursor& cursor) const;
   void search(std::uint32_t start, const double q[3], double& best,
               std::uint32_t& best_index) const;
 
@@ -127,44 +141,67 @@ private:
   std::uint32_t root_count_ = 0; ///< n_ when the whole tree is one leaf, else 0
   double lo_[3] = {0.0, 0.0, 0.0};
   double scale_ = 0.0;
-  std::vector<float> xs_, ys_, zs_; ///< sorted points, one NaN pad for pairwise scans
-  std::vector<std::uint32_t> orig_; ///< cloud index of each sorted point
-  std::vector<std::uint64_t> keys_; ///< sorted keys (kept only while building)
+  std::unique_ptr<float[]> xs_, ys_, zs_; ///< sorted points and one NaN pad (pair scans)
+  std::unique_ptr<std::uint32_t[]> orig_; ///< cloud index of each sorted point
   std::vector<Node> nodes_;
   std::vector<NodeKey> node_keys_;
 };
 
-void MortonTree::build(const CloudXYZ& cloud)
+void MortonTree::build(const CloudXYZ& cloud, int threads)
 {
   cloud_size_ = cloud.size();
   if (cloud_size_ >= kNone)
     throw InvalidArgumentError("a cloud of " + std::to_string(cloud_size_) +
                                " points is too large (at most 4294967294)");
-  std::vector<std::uint32_t> index;
-  index.reserve(cloud_size_);
-  const float inf = std::numeric_limits<float>::infinity();
-  float lo[3] = {inf, inf, inf}, hi[3] = {-inf, -inf, -inf};
-  for (std::size_t i = 0; i < cloud_size_; ++i) {
-    const auto& p = cloud[i];
-    if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
-      continue;
-    index.push_back(static_cast<std::uint32_t>(i));
-    lo[0] = std::min(lo[0], p.x);
-    lo[1] = std::min(lo[1], p.y);
-    lo[2] = std::min(lo[2], p.z);
-    hi[0] = std::max(hi[0], p.x);
-    hi[1] = std::max(hi[1], p.y);
-    hi[2] = std::max(hi[2], p.z);
-  }
-  n_ = index.size();
   nodes_.clear();
   node_keys_.clear();
   root_count_ = 0;
-  const float nan = std::numeric_limits<float>::quiet_NaN();
-  xs_.assign(n_ + 1, nan);
-  ys_.assign(n_ + 1, nan);
-  zs_.assign(n_ + 1, nan);
-  orig_.resize(n_);
+  // Fixed chunks (not per thread), so that the team size cannot change the order.
+  const int chunks = cloud_size_ < kParallelBuildMin ? 1 : std::max(threads, 1);
+  const auto chunkBegin = [chunks](long long c, std::size_t n) {
+    return n * static_cast<std::size_t>(c) / static_cast<std::size_t>(chunks);
+  };
+
+  // Finite points and bounds, per chunk.
+  std::vector<std::size_t> first(chunks + 1, 0);
+  const float inf = std::numeric_limits<float>::infinity();
+  std::vector<float> bounds(6 * chunks);
+#pragma omp parallel for num_threads(chunks) schedule(static, 1)
+  for (long long c = 0; c < chunks; ++c) {
+    float lo[3] = {inf, inf, inf}, hi[3] = {-inf, -inf, -inf};
+    std::size_t count = 0;
+    for (std::size_t i = chunkBegin(c, cloud_size_); i < chunkBegin(c + 1, cloud_size_);
+         ++i) {
+      const auto& p = cloud[i];
+      if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
+        continue;
+      ++count;
+      lo[0] = std::min(lo[0], p.x);
+      lo[1] = std::min(lo[1], p.y);
+      lo[2] = std::min(lo[2], p.z);
+      hi[0] = std::max(hi[0], p.x);
+      hi[1] = std::max(hi[1], p.y);
+      hi[2] = std::max(hi[2], p.z);
+    }
+    first[c + 1] = count;
+    std::copy(lo, lo + 3, &bounds[6 * c]);
+    std::copy(hi, hi + 3, &bounds[6 * c + 3]);
+  }
+  float lo[3] = {inf, inf, inf}, hi[3] = {-inf, -inf, -inf};
+  for (int c = 0; c < chunks; ++c) {
+    first[c + 1] += first[c];
+    for (int a = 0; a < 3; ++a) {
+      lo[a] = std::min(lo[a], bounds[6 * c + a]);
+      hi[a] = std::max(hi[a], bounds[6 * c + 3 + a]);
+    }
+  }
+  n_ = first[chunks];
+  // Left uninitialised: each chunk touches its own part first (page faults in parallel).
+  xs_.reset(new float[n_ + 1]);
+  ys_.reset(new float[n_ + 1]);
+  zs_.reset(new float[n_ + 1]);
+  orig_.reset(new std::uint32_t[n_]);
+  xs_[n_] = ys_[n_] = zs_[n_] = std::numeric_limits<float>::quiet_NaN();
   if (n_ == 0)
     return;
 
@@ -175,50 +212,90 @@ void MortonTree::build(const CloudXYZ& cloud)
     extent = std::max(extent, double(hi[a]) - double(lo[a]));
   }
   scale_ = extent > 0.0 ? kKeyMax / extent : 0.0;
-  keys_.resize(n_);
-  for (std::size_t k = 0; k < n_; ++k) {
-    const auto& p = cloud[index[k]];
-    keys_[k] = spreadBits(quantize(p.x, 0)) | spreadBits(quantize(p.y, 1)) << 1 |
-               spreadBits(quantize(p.z, 2)) << 2;
-  }
 
-  // Stable LSD radix sort of the 48-bit keys, 4 passes of 12 bits.
-  std::vector<std::uint64_t> keys_tmp(n_);
-  std::vector<std::uint32_t> index_tmp(n_);
-  std::vector<std::uint32_t> offsets(4097);
-  for (int shift = 0; shift < 48; shift += 12) {
-    std::fill(offsets.begin(), offsets.end(), 0u);
-    for (std::size_t k = 0; k < n_; ++k)
-      ++offsets[((keys_[k] >> shift) & 0xfff) + 1];
-    if (offsets[((keys_[0] >> shift) & 0xfff) + 1] == n_)
-      continue; // one digit value: already in order
-    for (int b = 0; b < 4096; ++b)
-      offsets[b + 1] += offsets[b];
-    for (std::size_t k = 0; k < n_; ++k) {
-      const std::uint32_t dst = offsets[(keys_[k] >> shift) & 0xfff]++;
-      keys_tmp[dst] = keys_[k];
-      index_tmp[dst] = index[k];
+  // Keys, then a stable LSD radix sort of the 48-bit keys (4 passes of 12 bits), each
+  // pass counted and scattered per chunk.
+  std::unique_ptr<std::uint64_t[]> keys(new std::uint64_t[n_]),
+      keys_tmp(new std::uint64_t[n_]);
+  std::unique_ptr<std::uint32_t[]> index(new std::uint32_t[n_]),
+      index_tmp(new std::uint32_t[n_]);
+  constexpr std::size_t kBuckets = 4096;
+  std::vector<std::uint32_t> offsets(chunks * kBuckets);
+  bool skip_pass = false;
+#pragma omp parallel num_threads(chunks)
+  {
+#pragma omp for schedule(static, 1)
+    for (long long c = 0; c < chunks; ++c) {
+      std::size_t k = first[c];
+      for (std::size_t i = chunkBegin(c, cloud_size_); i < chunkBegin(c + 1, cloud_size_);
+           ++i) {
+        const auto& p = cloud[i];
+        if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
+          continue;
+        index[k] = static_cast<std::uint32_t>(i);
+        keys[k++] = spreadBits(quantize(p.x, 0)) | spreadBits(quantize(p.y, 1)) << 1 |
+                    spreadBits(quantize(p.z, 2)) << 2;
+      }
     }
-    keys_.swap(keys_tmp);
-    index.swap(index_tmp);
-  }
-  for (std::size_t k = 0; k < n_; ++k) {
-    const auto& p = cloud[index[k]];
-    xs_[k] = p.x;
-    ys_[k] = p.y;
-    zs_[k] = p.z;
-    orig_[k] = index[k];
+    for (int shift = 0; shift < 48; shift += 12) {
+#pragma omp for schedule(static, 1)
+      for (long long c = 0; c < chunks; ++c) {
+        std::uint32_t* count = &offsets[c * kBuckets];
+        std::fill(count, count + kBuckets, 0u);
+        for (std::size_t k = chunkBegin(c, n_); k < chunkBegin(c + 1, n_); ++k)
+          ++count[(keys[k] >> shift) & 0xfff];
+      }
+#pragma omp single
+      {
+        // Bucket by bucket, chunk by chunk: where each chunk writes its keys.
+        std::uint32_t sum = 0, largest = 0;
+        for (std::size_t b = 0; b < kBuckets; ++b) {
+          std::uint32_t bucket = 0;
+          for (int c = 0; c < chunks; ++c) {
+            const std::uint32_t count = offsets[c * kBuckets + b];
+            offsets[c * kBuckets + b] = sum;
+            sum += count;
+            bucket += count;
+          }
+          largest = std::max(largest, bucket);
+        }
+        skip_pass = largest == n_; // one digit value: already in order
+      }
+      if (!skip_pass) {
+#pragma omp for schedule(static, 1)
+        for (long long c = 0; c < chunks; ++c) {
+          std::uint32_t* offset = &offsets[c * kBuckets];
+          for (std::size_t k = chunkBegin(c, n_); k < chunkBegin(c + 1, n_); ++k) {
+            const std::uint32_t dst = offset[(keys[k] >> shift) & 0xfff]++;
+            keys_tmp[dst] = keys[k];
+            index_tmp[dst] = index[k];
+          }
+        }
+#pragma omp single
+        {
+          keys.swap(keys_tmp);
+          index.swap(index_tmp);
+        }
+      }
+    }
+#pragma omp for schedule(static)
+    for (long long k = 0; k < static_cast<long long>(n_); ++k) {
+      const auto& p = cloud[index[k]];
+      xs_[k] = p.x;
+      ys_[k] = p.y;
+      zs_[k] = p.z;
+      orig_[k] = index[k];
+    }
   }
 
-  if (n_ <= kLeafSize)
+  if (n_ <= kLeafSize) {
     root_count_ = static_cast<std::uint32_t>(n_);
-  else {
-    nodes_.reserve(2 * (n_ / kLeafSize + 1));
-    node_keys_.reserve(2 * (n_ / kLeafSize + 1));
-    float root_lo[3], root_hi[3];
-    buildRange(0, static_cast<std::uint32_t>(n_), root_lo, root_hi, 0);
+    return;
   }
-  keys_ = std::vector<std::uint64_t>(); // only the node keys are needed from now on
+  nodes_.reserve(2 * (n_ / kLeafSize + 1));
+  node_keys_.reserve(2 * (n_ / kLeafSize + 1));
+  float root_lo[3], root_hi[3];
+  buildRange(keys.get(), 0, static_cast<std::uint32_t>(n_), root_lo, root_hi, 0);
 }
 
 void MortonTree::leafBox(std::uint32_t begin, std::uint32_t end, float lo[3],
@@ -237,12 +314,13 @@ void MortonTree::leafBox(std::uint32_t begin, std::uint32_t end, float lo[3],
   }
 }
 
-std::uint32_t MortonTree::buildRange(std::uint32_t begin, std::uint32_t end, float lo[3],
-                                     float hi[3], int depth)
+std::uint32_t MortonTree::buildRange(const std::uint64_t* keys, std::uint32_t begin,
+                                     std::uint32_t end, float lo[3], float hi[3],
+                                     int depth)
 {
   // Split at the highest differing bit: the first half is every key with a 0 there.
   // Equal keys (duplicates, or a zero extent) are halved instead.
-  const std::uint64_t diff = keys_[begin] ^ keys_[end - 1];
+  const std::uint64_t diff = keys[begin] ^ keys[end - 1];
   std::uint32_t split_bit = kNoSplit, split;
   if (diff == 0)
     split = begin + (end - begin) / 2;
@@ -250,15 +328,15 @@ std::uint32_t MortonTree::buildRange(std::uint32_t begin, std::uint32_t end, flo
     split_bit = static_cast<std::uint32_t>(highestBit(diff));
     const std::uint64_t mask = std::uint64_t(1) << split_bit;
     split = static_cast<std::uint32_t>(
-        std::partition_point(keys_.begin() + begin, keys_.begin() + end,
+        std::partition_point(keys + begin, keys + end,
                              [mask](std::uint64_t k) { return !(k & mask); }) -
-        keys_.begin());
+        keys);
   }
   if (depth + 2 >= kMaxDepth) // cannot happen with 48-bit keys and < 2^32 points
     throw Error("metrics: search tree deeper than " + std::to_string(kMaxDepth));
   const auto id = static_cast<std::uint32_t>(nodes_.size());
   nodes_.emplace_back();
-  node_keys_.push_back({keys_[begin], split_bit});
+  node_keys_.push_back({keys[begin], split_bit});
   const std::uint32_t range[2][2] = {{begin, split}, {split, end}};
   float child_lo[2][3], child_hi[2][3];
   for (int c = 0; c < 2; ++c) {
@@ -267,7 +345,8 @@ std::uint32_t MortonTree::buildRange(std::uint32_t begin, std::uint32_t end, flo
     if (count <= kLeafSize)
       leafBox(range[c][0], range[c][1], child_lo[c], child_hi[c]);
     else {
-      child = buildRange(range[c][0], range[c][1], child_lo[c], child_hi[c], depth + 1);
+      child =
+          buildRange(keys, range[c][0], range[c][1], child_lo[c], child_hi[c], depth + 1);
       leaf_count = 0;
     }
     Node& node = nodes_[id]; // not across the recursion: nodes_ may have grown
@@ -293,8 +372,9 @@ inline __m128d loadFloatPair(const float* p)
 }
 #endif
 
-void MortonTree::scanLeaf(std::uint32_t begin, std::uint32_t count, const double q[3],
-                          double& best, std::uint32_t& best_index) const
+PLANTNBV_HOT_INLINE void MortonTree::scanLeaf(std::uint32_t begin, std::uint32_t count,
+                                              const double q[3], double& best,
+                                              std::uint32_t& best_index) const
 {
   // Pairs of points; an odd leaf also reads the next point (a real point of the cloud, or
   // the NaN pad, which never compares less), so the minimum stays exact.
@@ -334,7 +414,8 @@ void MortonTree::scanLeaf(std::uint32_t begin, std::uint32_t count, const double
 #endif
 }
 
-void MortonTree::boxSqrDists(const Node& node, const double q[3], double d[2]) const
+PLANTNBV_HOT_INLINE void MortonTree::boxSqrDists(const Node& node, const double q[3],
+                                                 double d[2]) const
 {
   // Per axis the gap max(lo - q, q - hi, 0): never larger than the gap to a point inside.
 #ifdef PLANTNBV_METRICS_SSE2
@@ -363,7 +444,8 @@ void MortonTree::boxSqrDists(const Node& node, const double q[3], double d[2]) c
 #endif
 }
 
-std::uint32_t MortonTree::startNode(const double q[3], double best, Cursor& cursor) const
+PLANTNBV_HOT_INLINE MortonTree::Subtree
+MortonTree::startNode(const double q[3], double best, Cursor& cursor) const
 {
   if (cursor.depth < 0) {
     cursor.depth = 0;
@@ -371,7 +453,7 @@ std::uint32_t MortonTree::startNode(const double q[3], double best, Cursor& curs
     cursor.shift[0] = 64; // the root's cell is everything
   }
   if (!(best < kInf))
-    return 0;
+    return {0, 0};
   // Key range of the ball's bounding box, widened by one key step plus a bound on the
   // rounding of (q +- r - lo) * scale, so that every point nearer than sqrt(best) is in
   // it.
@@ -382,10 +464,11 @@ std::uint32_t MortonTree::startNode(const double q[3], double best, Cursor& curs
                                     (std::abs(q[a]) + r + std::abs(lo_[a])) * scale_;
     const double t_lo = (q[a] - r - lo_[a]) * scale_ - margin;
     const double t_hi = (q[a] + r - lo_[a]) * scale_ + margin;
-    const std::uint64_t k_lo =
-        t_lo > 0.0 ? static_cast<std::uint64_t>(std::min(t_lo, kKeyMax)) : 0;
-    const std::uint64_t k_hi =
-        t_hi > 0.0 ? static_cast<std::uint64_t>(std::min(t_hi, kKeyMax)) : 0;
+    // (uint32: converting a double to uint64 takes a branch on x86-64)
+    const std::uint32_t k_lo =
+        t_lo > 0.0 ? static_cast<std::uint32_t>(std::min(t_lo, kKeyMax)) : 0;
+    const std::uint32_t k_hi =
+        t_hi > 0.0 ? static_cast<std::uint32_t>(std::min(t_hi, kKeyMax)) : 0;
     key_min |= spreadBits(k_lo) << a;
     key_max |= spreadBits(k_hi) << a;
   }
@@ -406,15 +489,17 @@ std::uint32_t MortonTree::startNode(const double q[3], double best, Cursor& curs
         (key_min >> (bit + 1)) != (nk.key >> (bit + 1)))
       break;
     const int c = static_cast<int>((key_min >> bit) & 1);
-    if (nodes_[v].count[c] != 0) // the box lies in a leaf's cell: search from v
-      break;
+    if (nodes_[v].count[c] != 0) { // the box lies in a leaf's cell: that leaf only
+      cursor.depth = depth;
+      return {nodes_[v].child[c], nodes_[v].count[c]};
+    }
     v = nodes_[v].child[c];
     ++depth;
     cursor.node[depth] = v;
     cursor.shift[depth] = bit;
   }
   cursor.depth = depth;
-  return v;
+  return {v, 0};
 }
 
 void MortonTree::search(std::uint32_t start, const double q[3], double& best_io,
@@ -461,13 +546,19 @@ void MortonTree::search(std::uint32_t start, const double q[3], double& best_io,
   best_index_io = best_index;
 }
 
-double MortonTree::nearest(const double q[3], double best, std::uint32_t& best_index,
-                           Cursor& cursor) const
+PLANTNBV_HOT_INLINE double MortonTree::nearest(const double q[3], double best,
+                                               std::uint32_t& best_index,
+                                               Cursor& cursor) const
 {
   if (root_count_ != 0)
     scanLeaf(0, root_count_, q, best, best_index);
-  else if (n_ != 0)
-    search(startNode(q, best, cursor), q, best, best_index);
+  else if (n_ != 0) {
+    const Subtree start = startNode(q, best, cursor);
+    if (start.count != 0)
+      scanLeaf(start.ref, start.count, q, best, best_index);
+    else
+      search(start.ref, q, best, best_index);
+  }
   return best;
 }
 
@@ -576,7 +667,7 @@ void ReconstructionMetrics::setReference(const CloudXYZConstPtr& reference)
   if (!impl_)
     impl_ = std::make_unique<Impl>(); // moved-from object reused
   impl_->has_reference = false;       // stays unset if the build throws
-  impl_->reference.build(*reference);
+  impl_->reference.build(*reference, threads_ > 0 ? threads_ : omp_get_max_threads());
   impl_->has_reference = true;
 }
 
@@ -587,7 +678,8 @@ void ReconstructionMetrics::setReconstruction(const CloudXYZConstPtr& reconstruc
   if (!impl_)
     impl_ = std::make_unique<Impl>();
   impl_->has_reconstruction = false;
-  impl_->reconstruction.build(*reconstruction);
+  impl_->reconstruction.build(*reconstruction,
+                              threads_ > 0 ? threads_ : omp_get_max_threads());
   impl_->has_reconstruction = true;
 }
 

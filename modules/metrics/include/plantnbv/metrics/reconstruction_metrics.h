@@ -80,8 +80,9 @@ public:
   void setThreshold(double rho);
   double getThreshold() const { return rho_; }
 
-  /// \param[in] threads OpenMP threads for compute() and computeDistances(); 0 (default)
-  /// = OpenMP's default. The results do not depend on it.
+  /// \param[in] threads OpenMP threads for building the trees (clouds of 32k points and
+  /// more; set it before the clouds) and for compute() and computeDistances(); 0
+  /// (default) = OpenMP's default. The results do not depend on it.
   /// \throws InvalidArgumentError if negative.
   void setNumberOfThreads(int threads);
   int getNumberOfThreads() const { return threads_; }
