@@ -377,7 +377,9 @@ TEST(ReconstructionMetrics, DistancesEqualBruteForce)
       {"large coordinates", offset, offset2},
       {"single point", makeCloud({{0.1f, 0.2f, 0.3f}}),
        randomCloud(2000, 17, uniformInBox)},
-      {"one leaf", randomCloud(16, 18, uniformInBox), randomCloud(17, 19, uniformInBox)},
+      {"tiny", randomCloud(16, 18, uniformInBox), randomCloud(17, 19, uniformInBox)},
+      // Leaves hold at most 64 points: one leaf, and a root with two leaves.
+      {"one leaf", randomCloud(64, 22, uniformInBox), randomCloud(65, 23, uniformInBox)},
       {"large reference", randomCloud(2000, 20, noisySphere), sphere_with_nans},
   };
   for (const Case& c : cases) {
@@ -432,7 +434,7 @@ TEST(ReconstructionMetrics, NearestPointJustAcrossACellBoundaryIsFound)
   const pcl::PointXYZ a(q2.x, q2.y, float(0.25 - r));
   const pcl::PointXYZ b(float(boundary + 0.3 * step), q2.y, q2.z);
   auto reference = makeCloud({{0.0f, 0.0f, 0.0f}, {1.0f, 1.0f, 1.0f}, a, b});
-  for (int i = 0; i < 20; ++i) // > 16 points below X: that cell gets its own subtree
+  for (int i = 0; i < 100; ++i) // more than a leaf below X: that cell gets a subtree
     reference->push_back(pcl::PointXYZ(0.05f + 0.001f * i, 0.05f, 0.05f));
   const auto reconstruction = makeCloud({a, q2}); // a first in Morton order: the seed
   ReconstructionMetrics metrics;

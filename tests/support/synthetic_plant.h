@@ -17,7 +17,7 @@ struct SyntheticPlantConfig {
   int leaves = 8;
   int leaflets_per_leaf = 5;
   int fruits = 3;
-  /// Subdivision of every part: higher gives more triangles (default about 60k).
+  /// Subdivision of every part: higher gives more triangles (default about 25k).
   int detail = 24;
   std::uint64_t seed = 0; ///< varies leaf lengths and droop
 };

@@ -27,7 +27,7 @@ namespace plantnbv {
 
 namespace {
 
-constexpr std::uint32_t kLeafSize = 16; // points per leaf at most
+constexpr std::uint32_t kLeafSize = 64; // points per leaf at most
 constexpr double kKeyMax = 65535.0;     // 16 bits per axis, 48-bit Morton keys
 constexpr std::uint32_t kNoSplit = 64;  // split bit of a node whose keys are all equal
 constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
@@ -513,8 +513,7 @@ void MortonTree::search(std::uint32_t start, const double q[3], double& best_io,
   int top = 0;
   double best = best_io;
   std::uint32_t best_index = best_index_io;
-  // The current subtree: a node (count 0) or a leaf's points. One scanLeaf call site, so
-  // that it is inlined.
+  // The current subtree: a node (count 0) or a leaf's points.
   std::uint32_t ref = start, count = 0;
   for (;;) {
     if (count != 0)
