@@ -278,6 +278,12 @@ TEST(MeshIo, Errors)
   const std::string hang =
       thrownMessage<FormatError>([&] { loadMesh(dir.write("hang.dae", broken)); });
   EXPECT_NE(hang.find("<p>"), std::string::npos) << hang;
+  // ... and segfaults on an array without a count attribute.
+  std::string uncounted = dae.str();
+  const auto array = uncounted.find("<float_array");
+  const auto count = uncounted.find(" count=", array);
+  uncounted.erase(count, uncounted.find('"', uncounted.find('"', count) + 1) + 1 - count);
+  EXPECT_THROW(loadMesh(dir.write("uncounted.dae", uncounted)), FormatError);
   const std::string bad_unit = thrownMessage<FormatError>([&] {
     loadMesh(
         dir.write("unit.dae", "<COLLADA><asset><unit meter=\"-2\"/></asset></COLLADA>"));
