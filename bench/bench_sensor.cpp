@@ -6,13 +6,15 @@
 /// Data: the oldest default tomato plant (defaultPlantConfig(9)) at mesh_detail 1.1,
 /// about 300k triangles, posed at the paper's (1.0, 0, 0.8), seen from the paper's v0
 /// (Table 1) with the L515 at 640 x 480 and 1024 x 768. Two scenes: the plant alone
-/// (most rays miss everything, as in a mesh viewer) and the default scene of the
-/// experiments (plant, floor and support: every ray hits something). Counters: hits =
-/// fraction of pixels with a return, triangles = scene size.
+/// (10% of the pixels hit it) and the default scene of the experiments (plant, floor
+/// and support: 32% of the pixels have a return within the L515's 9 m; the rest look
+/// above the horizon or hit the floor farther away). Counters: hits = fraction of pixels
+/// with a return, triangles = scene size.
 ///
-/// VTK's locator is not thread-safe for IntersectWithLine and takes 1-2 s per frame, so
-/// it casts the rays of every 8th pixel in each direction (1/64 of the frame, on one
+/// VTK's locator is not thread-safe for IntersectWithLine and takes seconds per frame,
+/// so it casts the rays of every 8th pixel in each direction (1/64 of the frame, on one
 /// thread) and the time reported is that, times 64: an extrapolation to a full frame.
+/// Only the plant-alone scene by default (see the registration below).
 /// Counter vtk_mismatch counts the sampled pixels where VTK's first hit and ours differ
 /// by more than 0.1 mm (or one hits and the other not). Run:
 ///   bench_sensor --benchmark_repetitions=5 --benchmark_report_aggregates_only=true
@@ -224,8 +226,11 @@ void BM_VtkCellLocator(benchmark::State& state)
   state.counters["triangles"] = double(poly->GetNumberOfCells());
 }
 
+// The plant alone only: with the 10 m floor and the support (background = 1) one
+// extrapolated frame took 209 s (640 x 480), so those rows are left out of the default
+// run (make the second list {0, 1} to measure them).
 BENCHMARK(BM_VtkCellLocator)
-    ->ArgsProduct({{640, 1024}, {0, 1}})
+    ->ArgsProduct({{640, 1024}, {0}})
     ->ArgNames({"width", "background"})
     ->UseManualTime()
     ->Iterations(3)

@@ -14,6 +14,7 @@ namespace app {
 void addSampleCommand(CLI::App& app);
 void addEvalCommand(CLI::App& app);
 void addPlantCommand(CLI::App& app);
+void addCaptureCommand(CLI::App& app);
 
 /// Milliseconds since construction, for the timings the tools print.
 class Stopwatch {

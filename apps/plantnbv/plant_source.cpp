@@ -20,10 +20,11 @@
 namespace plantnbv {
 namespace app {
 
-void addPlantSourceOptions(CLI::App& cmd, PlantSourceOptions& o)
+void addPlantSourceOptions(CLI::App& cmd, PlantSourceOptions& o, const std::string& seed_flag)
 {
+  o.seed_flag = seed_flag;
   auto* seed = cmd.add_option(
-      "--seed", o.seed, "Generate a tomato plant from this seed (0-9: the default set)");
+      seed_flag, o.seed, "Generate a tomato plant from this seed (0-9: the default set)");
   auto* model = cmd.add_option("--model", o.model,
                                "Load a plant instead: a mesh (.dae .obj .ply .stl .wrl) "
                                "or a scanned cloud (.pcd .ply)");
@@ -54,7 +55,8 @@ void addPlantSourceOptions(CLI::App& cmd, PlantSourceOptions& o)
 PlacedPlant makePlacedPlant(const PlantSourceOptions& o)
 {
   if (!o.seed && o.model.empty())
-    throw InvalidArgumentError("give a plant: --seed S (generated) or --model FILE");
+    throw InvalidArgumentError("give a plant: " + o.seed_flag +
+                               " S (generated) or --model FILE");
   if (o.base.size() != 3 || !std::isfinite(o.base[0]) || !std::isfinite(o.base[1]) ||
       !std::isfinite(o.base[2]))
     throw InvalidArgumentError("--base must be three finite numbers x,y,z in metres");

@@ -19,6 +19,7 @@ namespace app {
 
 struct PlantSourceOptions {
   std::optional<std::uint64_t> seed;
+  std::string seed_flag = "--seed"; ///< the option's name, for messages
   std::optional<double> stage;
   bool simplified = false;
   std::string model;
@@ -30,8 +31,10 @@ struct PlantSourceOptions {
 };
 
 /// Adds --seed/--stage/--simplified, --model/--labels/--rois/--keep-frame, --yaw-deg and
-/// --base to a subcommand.
-void addPlantSourceOptions(CLI::App& cmd, PlantSourceOptions& options);
+/// --base to a subcommand. `seed_flag` names the plant's seed option: "--seed" for
+/// `plant`, "--plant" where --seed seeds something else (capture, reconstruct).
+void addPlantSourceOptions(CLI::App& cmd, PlantSourceOptions& options,
+                           const std::string& seed_flag = "--seed");
 
 /// A plant with the ROIs it comes with, placed in the world frame.
 struct PlacedPlant {

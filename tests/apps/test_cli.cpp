@@ -348,3 +348,79 @@ TEST_F(CliTest, PlantSnapshotIsAPortraitPngEvenWithoutADisplay)
   // A blank image compresses to a few kB; a rendered plant does not.
   EXPECT_GT(fs::file_size(path("p.png")), 50000u);
 }
+
+TEST_F(CliTest, CaptureWritesTheViewItsDepthAndAMap)
+{
+  // A small custom camera keeps the test fast; the plant seen from the paper's v0.
+  const ToolRun r = run("capture --plant 2 --intrinsics 160x120:114.25,114.25,79.5,59.5 -o " +
+                        path("view.pcd") + " --depth " + path("depth.png") + " --map " +
+                        path("map.bt"));
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_EQ(r.err, ""); // nothing from OctoMap's writer either
+  pcl::PointCloud<pcl::PointXYZL> view;
+  plantnbv::io::loadCloud(path("view.pcd"), view);
+  ASSERT_EQ(view.width, 160u);
+  ASSERT_EQ(view.height, 120u);
+  std::size_t plant = 0, background = 0, none = 0;
+  for (const auto& p : view) {
+    if (!std::isfinite(p.x))
+      ++none;
+    else if (p.label == 6) // background: floor and support
+      ++background;
+    else
+      ++plant;
+  }
+  EXPECT_GT(plant, 0u);
+  EXPECT_GT(background, 0u);
+  EXPECT_GT(none, 0u); // above the horizon
+  EXPECT_NE(r.out.find(std::to_string(plant) + " on the plant"), std::string::npos) << r.out;
+
+  // The PNG: 16-bit grey of the camera's size (IHDR at byte 16: width, height, depth 16,
+  // colour type 0).
+  const std::string png = slurp(path("depth.png"));
+  ASSERT_GT(png.size(), 26u);
+  auto be32 = [&](std::size_t at) {
+    return (std::uint32_t(std::uint8_t(png[at])) << 24) |
+           (std::uint32_t(std::uint8_t(png[at + 1])) << 16) |
+           (std::uint32_t(std::uint8_t(png[at + 2])) << 8) | std::uint8_t(png[at + 3]);
+  };
+  EXPECT_EQ(be32(16), 160u);
+  EXPECT_EQ(be32(20), 120u);
+  EXPECT_EQ(png[24], 16);
+  EXPECT_EQ(png[25], 0);
+
+  // The map has the plant's points within its range (0.75 m from v0) as occupied
+  // voxels, and nothing at those beyond.
+  const auto tree = plantnbv::readOcTree(path("map.bt"));
+  ASSERT_TRUE(tree);
+  EXPECT_DOUBLE_EQ(tree->getResolution(), 0.003);
+  const Eigen::Vector3f v0(0.646f, 0.353f, 1.383f);
+  std::size_t in_range = 0, occupied = 0, far_known = 0;
+  for (const auto& p : view)
+    if (std::isfinite(p.x) && p.label != 6) {
+      const auto* node = tree->search(p.x, p.y, p.z);
+      if ((p.getVector3fMap() - v0).norm() <= 0.75f) {
+        ++in_range;
+        occupied += node && tree->isNodeOccupied(node);
+      } else {
+        far_known += node != nullptr;
+      }
+    }
+  EXPECT_GT(in_range, plant / 2);
+  EXPECT_EQ(far_known, 0u);
+  EXPECT_EQ(occupied, in_range);
+}
+
+TEST_F(CliTest, CaptureBadArgumentsAreOneLineErrors)
+{
+  const std::string out = " -o " + path("v.pcd");
+  expectOneLineError(run("capture" + out), 1, "--plant");
+  expectOneLineError(run("capture --plant 1 --pose 1,2,3" + out), 2, "--pose");
+  expectOneLineError(run("capture --plant 1 --pose 1,2,3,0,0,0,0" + out), 1, "quaternion");
+  expectOneLineError(run("capture --plant 1 --intrinsics l516" + out), 1, "l516");
+  expectOneLineError(run("capture --plant 1 --noise-seed 3" + out), 2, "--noise");
+  expectOneLineError(run("capture --plant 1 --resolution -1 --map " + path("m.bt") + out),
+                     1, "resolution");
+  expectOneLineError(run("capture --plant 1 -o " + path("v.xyz")), 1, "v.xyz");
+  expectOneLineError(run("capture --plant 1 --map " + path("m.vdb") + out), 1, "m.vdb");
+}

@@ -5,6 +5,7 @@
 #include <fstream>
 #include <limits>
 #include <set>
+#include <sstream>
 #include <tuple>
 #include <unistd.h>
 
@@ -260,6 +261,16 @@ TEST(OctreeConversion, WriteAndReadBtAndOt)
     const CloudXYZ out = occupied(*back);
     EXPECT_EQ(out.size(), expected.size()) << ext;
     EXPECT_EQ(toSet(out), expected) << ext;
+    // Byte for byte what OctoMap's own writers produce.
+    std::ostringstream octomap_bytes;
+    if (ext == ".ot")
+      tree->write(octomap_bytes);
+    else
+      tree->writeBinaryConst(octomap_bytes);
+    std::ifstream in(path, std::ios::binary);
+    std::ostringstream our_bytes;
+    our_bytes << in.rdbuf();
+    EXPECT_EQ(our_bytes.str(), octomap_bytes.str()) << ext;
     std::filesystem::remove(path);
   }
   // The caller's tree is not turned into maximum likelihood by writing .bt.

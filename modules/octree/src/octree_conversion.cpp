@@ -207,8 +207,20 @@ void writeOcTree(const std::string& path, const octomap::OcTree& tree)
   std::ofstream out(path, std::ios::binary | std::ios::trunc);
   if (!out)
     throw IoError("cannot open octree file '" + path + "' for writing");
-  // writeBinaryConst: writeBinary would turn the caller's tree into maximum likelihood.
-  const bool ok = ext == ".bt" ? tree.writeBinaryConst(out) : tree.write(out);
+  // OctoMap's file layout (AbstractOcTree::write, AbstractOccupancyOcTree::writeBinary),
+  // written here because the library's writers print to stderr, and writeBinary would
+  // turn the caller's tree into maximum likelihood. `res` with the stream's default
+  // formatting, as OctoMap writes it.
+  const bool binary = ext == ".bt";
+  out << (binary ? kBinaryHeader : kFullHeader)
+      << "\n# (feel free to add / change comments, but leave the first line as it is!)\n#\n"
+      << "id " << tree.getTreeType() << "\nsize " << tree.size() << "\nres "
+      << tree.getResolution() << "\ndata\n";
+  if (binary)
+    tree.writeBinaryData(out);
+  else
+    tree.writeData(out);
+  const bool ok = out.good();
   out.close();
   if (!ok || out.fail())
     throw IoError("error while writing octree file '" + path + "'");

@@ -1,6 +1,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <emmintrin.h>
 #include <limits>
 #include <omp.h>
 #include <pmmintrin.h>
@@ -65,6 +66,21 @@ public:
 private:
   unsigned int csr_;
 };
+
+/// Writes a point with non-temporal stores: x, y, z, 1, then the label and zeroed
+/// padding. A frame's cloud (32 bytes a pixel, 10 MB at 640 x 480) is larger than the
+/// caches; plain stores read every line before writing it and kept 2 threads from
+/// scaling (measured: 6.6 ms a frame instead of 5.0 ms without the writes). Callers
+/// issue _mm_sfence() before other threads read the points.
+inline void streamPoint(pcl::PointXYZL& p, float x, float y, float z, std::uint32_t label)
+{
+  static_assert(sizeof(pcl::PointXYZL) == 32,
+                "pcl::PointXYZL: x, y, z, 1, label, padding");
+  float* base = p.data; // 16-byte aligned: PCL points are EIGEN_ALIGN16
+  _mm_stream_ps(base, _mm_setr_ps(x, y, z, 1.0f));
+  _mm_stream_si128(reinterpret_cast<__m128i*>(base + 4),
+                   _mm_setr_epi32(static_cast<int>(label), 0, 0, 0));
+}
 
 } // namespace
 
@@ -249,7 +265,7 @@ void SimulatedDepthSensor::capture(const Pose& T_W_C, CloudXYZL& cloud, DepthIma
       packet.ray.flags[k] = 0;
     }
 
-#pragma omp for schedule(dynamic, 16)
+#pragma omp for schedule(dynamic, 16) nowait
     for (std::int64_t tile = 0; tile < tiles; ++tile) {
       const std::uint32_t tx = std::uint32_t(tile % tiles_x) * 4;
       const std::uint32_t ty = std::uint32_t(tile / tiles_x) * 4;
@@ -286,7 +302,6 @@ void SimulatedDepthSensor::capture(const Pose& T_W_C, CloudXYZL& cloud, DepthIma
           continue;
         const std::uint32_t u = tx + (k & 3), v = ty + (k >> 2);
         const std::size_t i = std::size_t(v) * W + u;
-        pcl::PointXYZL& p = cloud.points[i];
         const unsigned int geom = packet.hit.geomID[k];
         float t = kInf;
         PixelStatus status = kNoSurface;
@@ -295,17 +310,13 @@ void SimulatedDepthSensor::capture(const Pose& T_W_C, CloudXYZL& cloud, DepthIma
           status = t < min_range ? kTooNear : (t > max_range ? kFar : kReturn);
         }
         b.status[i] = status;
-        if (status == kReturn) {
-          p.x = o_f.x() + t * packet.ray.dir_x[k];
-          p.y = o_f.y() + t * packet.ray.dir_y[k];
-          p.z = o_f.z() + t * packet.ray.dir_z[k];
-          p.data[3] = 1.0f;
-          p.label = geometries[geom].labels[packet.hit.primID[k]];
-        } else {
-          p.x = p.y = p.z = kNaN;
-          p.data[3] = 1.0f;
-          p.label = 0;
-        }
+        if (status == kReturn)
+          streamPoint(cloud.points[i], o_f.x() + t * packet.ray.dir_x[k],
+                      o_f.y() + t * packet.ray.dir_y[k],
+                      o_f.z() + t * packet.ray.dir_z[k],
+                      geometries[geom].labels[packet.hit.primID[k]]);
+        else
+          streamPoint(cloud.points[i], kNaN, kNaN, kNaN, 0);
         if (depth)
           depth->depth_m[i] = status == kReturn ? t * depth_per_range[k] : kNaN;
         if (noisy) {
@@ -326,6 +337,7 @@ void SimulatedDepthSensor::capture(const Pose& T_W_C, CloudXYZL& cloud, DepthIma
         }
       }
     }
+    _mm_sfence(); // the streamed points are visible after the region's barrier
   }
 
   // Pass 2 (noise): dropout on depth edges and at grazing angles, then axial noise.

@@ -1,0 +1,29 @@
+#pragma once
+/// \file depth_image_io.h
+/// \brief Writing depth images as 16-bit PNG files, the format depth cameras' tools use.
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace plantnbv {
+namespace io {
+
+/// \brief Writes a depth image (metres, row-major, NaN = no return) as a 16-bit grey PNG
+/// in units of 1 / `units_per_metre` metres (default 1000: millimetres, as RealSense and
+/// Kinect tools read them), rounded to the nearest unit; 0 means no return, as in those
+/// tools. A depth that rounds to 0 or above 65535 units (65.5 m in millimetres) cannot be
+/// stored and is written as 0 too.
+/// \throws InvalidArgumentError if the size does not match `depth_m` or is 0, or
+/// units_per_metre is not > 0; IoError if the file cannot be written.
+void saveDepthPng(const std::string& path, std::uint32_t width, std::uint32_t height,
+                  const std::vector<float>& depth_m, double units_per_metre = 1000.0);
+
+/// \brief Reads a 16-bit grey PNG written by saveDepthPng back to metres (0 -> NaN).
+/// \throws IoError if the file is missing or unreadable, FormatError if it is not a
+/// 16-bit single-channel PNG.
+void loadDepthPng(const std::string& path, std::uint32_t& width, std::uint32_t& height,
+                  std::vector<float>& depth_m, double units_per_metre = 1000.0);
+
+} // namespace io
+} // namespace plantnbv
