@@ -15,6 +15,7 @@ void addSampleCommand(CLI::App& app);
 void addEvalCommand(CLI::App& app);
 void addPlantCommand(CLI::App& app);
 void addCaptureCommand(CLI::App& app);
+void addReconstructCommand(CLI::App& app);
 
 /// Milliseconds since construction, for the timings the tools print.
 class Stopwatch {

@@ -21,12 +21,6 @@
 namespace plantnbv {
 namespace app {
 
-std::size_t defaultMeshPoints(double area_m2, double resolution)
-{
-  const double n = std::ceil(8.0 * area_m2 / (resolution * resolution));
-  return static_cast<std::size_t>(std::clamp(n, 1e4, 2e7));
-}
-
 void loadGeometryAsCloud(const std::string& path, const std::string& what,
                          const GeometryInputOptions& options, CloudXYZ& cloud,
                          std::string& summary)
@@ -52,7 +46,7 @@ void loadGeometryAsCloud(const std::string& path, const std::string& what,
     const std::size_t n =
         options.mesh_points
             ? options.mesh_points
-            : defaultMeshPoints(sampler.getSurfaceArea(), options.resolution);
+            : groundTruthSampleCount(sampler.getSurfaceArea(), options.resolution);
     sampler.setNumberOfPoints(n);
     sampler.setSeed(options.seed);
     auto samples = std::make_shared<CloudXYZ>();

@@ -15,11 +15,6 @@ struct GeometryInputOptions {
   std::uint64_t seed = 0;      ///< sampling seed for meshes
 };
 
-/// \brief The surface samples a mesh of `area_m2` gets by default: 8 per resolution^2 of
-/// surface, so every voxel the surface crosses receives points; at least 10,000, at most
-/// 20 million.
-std::size_t defaultMeshPoints(double area_m2, double resolution);
-
 /// \brief Reads `path` as points: a cloud as it is with non-finite points dropped, a mesh
 /// sampled (seeded) then voxelized at the resolution (centroid per voxel, the ground
 /// truth of DESIGN.md), an octree's occupied voxel centres. `what` names the input in

@@ -9,6 +9,7 @@
 #include <sys/wait.h>
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 #include <octomap/OcTree.h>
 #include <pcl/point_cloud.h>
 #include <pcl/point_types.h>
@@ -423,4 +424,125 @@ TEST_F(CliTest, CaptureBadArgumentsAreOneLineErrors)
                      1, "resolution");
   expectOneLineError(run("capture --plant 1 -o " + path("v.xyz")), 1, "v.xyz");
   expectOneLineError(run("capture --plant 1 --map " + path("m.vdb") + out), 1, "m.vdb");
+}
+
+namespace {
+
+/// A fast trial config: a 160 x 120 camera with the L515's field of view, 32 x 24 rays.
+const char* kSmallTrial = "camera: 160x120:114.25,114.25,79.5,59.5\n"
+                          "gain: {rays_x: 32, rays_y: 24}\n";
+
+std::vector<std::vector<std::string>> readCsv(const std::string& text)
+{
+  std::vector<std::vector<std::string>> rows;
+  std::istringstream lines(text);
+  std::string line;
+  while (std::getline(lines, line)) {
+    rows.emplace_back();
+    std::istringstream cells(line);
+    std::string cell;
+    while (std::getline(cells, cell, ','))
+      rows.back().push_back(cell);
+    if (!line.empty() && line.back() == ',')
+      rows.back().push_back("");
+  }
+  return rows;
+}
+
+} // namespace
+
+TEST_F(CliTest, ReconstructWritesStepsSummaryMapAndReconstruction)
+{
+  write("small.yaml", kSmallTrial);
+  const ToolRun r = run("reconstruct --plant 0 --planner nbv --attention leaf-nodes --views 3 "
+                        "--config " + path("small.yaml") + " -o " + path("t"));
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_EQ(std::count(r.out.begin(), r.out.end(), '\n'), 5) << r.out; // title, 3 views, end
+  EXPECT_NE(r.out.find("view  2"), std::string::npos) << r.out;
+
+  const auto rows = readCsv(slurp(path("t/steps.csv")));
+  ASSERT_EQ(rows.size(), 4u);
+  const std::vector<std::string>& header = rows[0];
+  for (const char* column : {"view", "gain", "plan_ms", "capture_ms", "insert_ms",
+                             "whole_plant_precision", "whole_plant_recall", "whole_plant_f1",
+                             "whole_plant_chamfer", "main_stem_f1", "leaf_nodes_f1"})
+    EXPECT_NE(std::find(header.begin(), header.end(), column), header.end()) << column;
+  for (std::size_t i = 1; i < rows.size(); ++i)
+    ASSERT_EQ(rows[i].size(), header.size()) << i;
+  EXPECT_EQ(rows[1][0], "0");
+  EXPECT_EQ(rows[1][8], ""); // no gain for v0
+  EXPECT_GT(std::stod(rows[3][8]), 0.0);
+
+  const auto summary = nlohmann::json::parse(slurp(path("t/summary.json")));
+  EXPECT_EQ(summary["config"]["planner"], "nbv");
+  EXPECT_EQ(summary["config"]["candidates"], 27);
+  EXPECT_EQ(summary["totals"]["views"], 3);
+  ASSERT_TRUE(summary["levels"].contains("leaf_nodes"));
+  EXPECT_TRUE(summary["levels"]["leaf_nodes"].contains("views_to_f1_0.8"));
+  const std::string f1 = rows[3][std::find(header.begin(), header.end(), "whole_plant_f1") -
+                                 header.begin()];
+  EXPECT_DOUBLE_EQ(summary["levels"]["whole_plant"]["final_f1"].get<double>(), std::stod(f1));
+
+  pcl::PointCloud<pcl::PointXYZ> reconstruction;
+  plantnbv::io::loadCloud(path("t/reconstruction.pcd"), reconstruction);
+  EXPECT_EQ(std::to_string(reconstruction.size()), rows[3][14]); // occupied_voxels
+  const auto tree = plantnbv::readOcTree(path("t/map.bt"));
+  ASSERT_TRUE(tree);
+}
+
+TEST_F(CliTest, ReconstructIsTheSameOnOneAndTwoThreads)
+{
+  write("small.yaml", kSmallTrial);
+  const std::string common = "reconstruct --plant 1 --yaw-deg 60 --planner random --seed 5 "
+                             "--views 3 --config " + path("small.yaml");
+  ASSERT_EQ(run(common + " --threads 1 -o " + path("a")).code, 0);
+  ASSERT_EQ(run(common + " --threads 2 -o " + path("b")).code, 0);
+  auto a = readCsv(slurp(path("a/steps.csv")));
+  auto b = readCsv(slurp(path("b/steps.csv")));
+  ASSERT_EQ(a.size(), 4u);
+  ASSERT_EQ(a.size(), b.size());
+  for (std::size_t i = 0; i < a.size(); ++i)
+    for (std::size_t col = 0; col < a[0].size(); ++col)
+      if (a[0][col].find("_ms") == std::string::npos)
+        EXPECT_EQ(a[i][col], b[i][col]) << a[0][col] << " row " << i;
+}
+
+TEST_F(CliTest, ReconstructSectorFollowsALoadedModel)
+{
+  write("small.yaml", kSmallTrial);
+  const std::string model = "reconstruct --model " + kFixtures +
+                            "/plant_cm_zup.dae --views 1 --config " + path("small.yaml");
+  ASSERT_EQ(run(model + " -o " + path("m")).code, 0);
+  ASSERT_EQ(run("plant --model " + kFixtures + "/plant_cm_zup.dae -o " + path("p")).code, 0);
+  plantnbv::TriangleMesh placed = plantnbv::io::loadMesh(path("p/plant.ply"));
+  Eigen::Vector3f lo, hi;
+  placed.bounds(lo, hi);
+  auto summary = nlohmann::json::parse(slurp(path("m/summary.json")));
+  EXPECT_NEAR(summary["config"]["sector"]["height"].get<double>(), hi.z() - 0.8, 1e-6);
+  ASSERT_EQ(run(model + " --sector-height 0.5 -o " + path("n")).code, 0);
+  summary = nlohmann::json::parse(slurp(path("n/summary.json")));
+  EXPECT_EQ(summary["config"]["sector"]["height"].get<double>(), 0.5);
+}
+
+TEST_F(CliTest, ReconstructBadArgumentsAreOneLineErrors)
+{
+  const std::string out = " -o " + path("x");
+  expectOneLineError(run("reconstruct --plant 1 --planner greedy" + out), 1, "greedy");
+  expectOneLineError(run("reconstruct --plant 1 --candidates 10" + out), 1, "--candidates");
+  expectOneLineError(run("reconstruct --plant 1 --pattern 5 --planner predefined" + out), 1,
+                     "pattern");
+  expectOneLineError(run("reconstruct --plant 1 --views 0" + out), 1, "views");
+  expectOneLineError(run("reconstruct --plant 1 --attention stems" + out), 1, "stems");
+  expectOneLineError(run("reconstruct --model " + kFixtures +
+                         "/plant_cm_zup.dae --attention leaf-nodes" + out),
+                     1, "leaf_nodes");
+  write("bad.yaml", "sector: {radius: 0.4, hieght: 0.7}\n");
+  expectOneLineError(run("reconstruct --plant 1 --config " + path("bad.yaml") + out), 1,
+                     "hieght");
+  write("bad2.yaml", "views: ten\n");
+  expectOneLineError(run("reconstruct --plant 1 --config " + path("bad2.yaml") + out), 1,
+                     "views");
+  expectOneLineError(run("reconstruct --plant 1 --config " + path("none.yaml") + out), 1,
+                     "none.yaml");
+  expectOneLineError(run("reconstruct --plant 1"), 2, "--output");
 }

@@ -1,6 +1,10 @@
+#include <cmath>
 #include <cstdio>
+#include <limits>
 #include <set>
 #include <string>
+#include <tuple>
+#include <utility>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -294,4 +298,336 @@ TEST(WritePng, RoundTripsPixelsTopRowFirst)
 
   image.rgb.pop_back();
   EXPECT_THROW(plantnbv::viz::writePng(image, path), plantnbv::InvalidArgumentError);
+}
+
+// --- Translucent meshes, camera frustums and polylines -------------------------------
+
+namespace {
+
+using plantnbv::Pose;
+using plantnbv::viz::Rgb;
+
+/// A square facing -x (towards a camera at the origin looking along +x), `half_m` on
+/// each side of (x, 0, 0).
+plantnbv::TriangleMesh square(double x, double half_m)
+{
+  plantnbv::TriangleMesh mesh;
+  const float h = static_cast<float>(half_m), xf = static_cast<float>(x);
+  mesh.vertices = {{xf, -h, -h}, {xf, h, -h}, {xf, h, h}, {xf, -h, h}};
+  mesh.triangles = {{0, 1, 2}, {0, 2, 3}};
+  return mesh;
+}
+
+/// A small scene seen by a camera at the origin looking along +x, z up.
+SceneSnapshot::Config frontCamera(int width = 160, int height = 120)
+{
+  SceneSnapshot::Config config;
+  config.width = width;
+  config.height = height;
+  config.camera = CameraPose{Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(1, 0, 0),
+                             Eigen::Vector3d(0, 0, 1)};
+  return config;
+}
+
+struct Pixel {
+  int r, g, b;
+};
+
+Pixel centrePixel(const RgbImage& image)
+{
+  const std::uint8_t* p = image.at(image.width / 2, image.height / 2);
+  return {p[0], p[1], p[2]};
+}
+
+double distanceToWhite(const Pixel& p)
+{
+  return std::sqrt(double((255 - p.r) * (255 - p.r) + (255 - p.g) * (255 - p.g) +
+                          (255 - p.b) * (255 - p.b)));
+}
+
+/// A camera body frame (x forward, y left, z up) at `position` looking at `target`.
+Pose lookAt(const Eigen::Vector3d& position, const Eigen::Vector3d& target)
+{
+  const Eigen::Vector3d forward = (target - position).normalized();
+  const Eigen::Vector3d left = Eigen::Vector3d::UnitZ().cross(forward).normalized();
+  Eigen::Matrix3d R;
+  R << forward, left, forward.cross(left);
+  return Pose(position, Eigen::Quaterniond(R));
+}
+
+const Rgb kBlue{0.0f, 0.0f, 1.0f};
+const Rgb kRed{1.0f, 0.0f, 0.0f};
+
+} // namespace
+
+TEST(SceneSnapshot, FadedMeshIsBlendedWithWhatIsBehindIt)
+{
+  const auto render = [](const std::vector<std::pair<double, Rgb>>& squares,
+                         double first_opacity) {
+    SceneSnapshot snapshot(frontCamera());
+    bool first = true;
+    for (const auto& [x, color] : squares) {
+      snapshot.addMesh(square(x, 0.1 * x), color, first ? first_opacity : 1.0);
+      first = false;
+    }
+    return centrePixel(snapshot.renderImage());
+  };
+  const Pixel opaque = render({{1.0, kBlue}}, 1.0);
+  const Pixel faded = render({{1.0, kBlue}}, 0.3);
+  // Faded over the white background: lighter, yet still blue.
+  EXPECT_GT(distanceToWhite(opaque), 250.0);
+  EXPECT_LT(distanceToWhite(faded), 0.5 * distanceToWhite(opaque));
+  EXPECT_GT(distanceToWhite(faded), 50.0);
+  EXPECT_GT(faded.b, faded.r + 20);
+  EXPECT_GT(faded.r, opaque.r + 100);
+
+  // Faded over an opaque red square behind it, added before or after: both colours
+  // show, whatever the order.
+  const Pixel red = render({{1.5, kRed}}, 1.0);
+  const Pixel over_red = render({{1.0, kBlue}, {1.5, kRed}}, 0.3);
+  const Pixel red_first = [] {
+    SceneSnapshot snapshot(frontCamera());
+    snapshot.addMesh(square(1.5, 0.15), kRed);
+    snapshot.addMesh(square(1.0, 0.1), kBlue, 0.3);
+    return centrePixel(snapshot.renderImage());
+  }();
+  EXPECT_GT(over_red.r, 100);
+  EXPECT_GT(over_red.b, red.b + 30);
+  EXPECT_LT(over_red.g, faded.g - 80); // red, not white, behind the blue
+  EXPECT_NEAR(red_first.r, over_red.r, 4);
+  EXPECT_NEAR(red_first.g, over_red.g, 4);
+  EXPECT_NEAR(red_first.b, over_red.b, 4);
+}
+
+TEST(SceneSnapshot, TranslucentMeshesAreSortedByDepthNotByOrder)
+{
+  // Two half-transparent squares: the nearer one's colour dominates, whichever was
+  // added first.
+  const auto render = [](double blue_x, double red_x, bool blue_first) {
+    SceneSnapshot snapshot(frontCamera());
+    const auto add_blue = [&] {
+      snapshot.addMesh(square(blue_x, 0.1 * blue_x), kBlue, 0.5);
+    };
+    const auto add_red = [&] { snapshot.addMesh(square(red_x, 0.1 * red_x), kRed, 0.5); };
+    if (blue_first) {
+      add_blue();
+      add_red();
+    } else {
+      add_red();
+      add_blue();
+    }
+    return centrePixel(snapshot.renderImage());
+  };
+  for (bool blue_first : {true, false}) {
+    const Pixel blue_near = render(1.0, 1.5, blue_first);
+    EXPECT_GT(blue_near.b, blue_near.r + 30) << blue_first;
+    const Pixel red_near = render(1.5, 1.0, blue_first);
+    EXPECT_GT(red_near.r, red_near.b + 30) << blue_first;
+  }
+}
+
+TEST(SceneSnapshot, FrustumBoundsFollowTheCameraBodyFrame)
+{
+  // Turned 90 deg about z: the camera looks along world +y, its left (body y) is world
+  // -x. The horizontal field of view spans body y, the vertical one body z.
+  const Pose T_W_C(
+      Eigen::Vector3d(1.0, 2.0, 3.0),
+      Eigen::Quaterniond(Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitZ())));
+  SceneSnapshot snapshot;
+  snapshot.addCameraFrustum(T_W_C, M_PI / 2, M_PI / 3, 2.0, distinctColor(0), "1");
+  EXPECT_FALSE(snapshot.empty());
+  Eigen::Vector3d min, max;
+  snapshot.bounds(min, max);
+  const double half_h = 2.0, half_v = 2.0 * std::tan(M_PI / 6);
+  EXPECT_TRUE(min.isApprox(Eigen::Vector3d(1.0 - half_h, 2.0, 3.0 - half_v), 1e-6))
+      << min.transpose();
+  EXPECT_TRUE(max.isApprox(Eigen::Vector3d(1.0 + half_h, 4.0, 3.0 + half_v), 1e-6))
+      << max.transpose();
+
+  // Polylines count too; a non-finite point breaks the line, lone points add nothing.
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  snapshot.addPolyline({Eigen::Vector3d(-5, 0, 0), Eigen::Vector3d(nan, 0, 0),
+                        Eigen::Vector3d(0, -6, 0), Eigen::Vector3d(0, -6, 7)},
+                       distinctColor(1));
+  snapshot.bounds(min, max);
+  EXPECT_TRUE(min.isApprox(Eigen::Vector3d(-1.0, -6.0, 0.0), 1e-6)) << min.transpose();
+  EXPECT_TRUE(max.isApprox(Eigen::Vector3d(3.0, 4.0, 7.0), 1e-6)) << max.transpose();
+
+  SceneSnapshot lone;
+  lone.addPolyline({Eigen::Vector3d(0, 0, 0)}, distinctColor(1));
+  lone.addPolyline(
+      {Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(0, nan, 0), Eigen::Vector3d(1, 0, 0)},
+      distinctColor(1));
+  lone.addPolyline({}, distinctColor(1));
+  EXPECT_TRUE(lone.empty());
+}
+
+TEST(SceneSnapshot, FrustumIsDrawnInItsColourWithTheFieldsOfViewAsGiven)
+{
+  // Seen from behind: a frustum 2 m ahead looking the same way (+x), 90 deg wide and
+  // 20 deg high, appears as a flat wide rectangle with its diagonals.
+  SceneSnapshot snapshot(frontCamera(320, 240));
+  snapshot.addCameraFrustum(
+      Pose(Eigen::Vector3d(2, 0, 0), Eigen::Quaterniond::Identity()), M_PI / 2,
+      20.0 * M_PI / 180.0, 0.5, distinctColor(0));
+  const RgbImage image = snapshot.renderImage();
+  ASSERT_EQ(image.width, 320);
+  ASSERT_EQ(image.height, 240);
+  int left = image.width, right = -1, top = image.height, bottom = -1;
+  std::size_t n = 0;
+  const int want[3] = {int(distinctColor(0).r * 255 + 0.5f),
+                       int(distinctColor(0).g * 255 + 0.5f),
+                       int(distinctColor(0).b * 255 + 0.5f)};
+  for (int y = 0; y < image.height; ++y)
+    for (int x = 0; x < image.width; ++x) {
+      const std::uint8_t* p = image.at(x, y);
+      if (std::abs(p[0] - want[0]) > 8 || std::abs(p[1] - want[1]) > 8 ||
+          std::abs(p[2] - want[2]) > 8)
+        continue;
+      ++n;
+      left = std::min(left, x);
+      right = std::max(right, x);
+      top = std::min(top, y);
+      bottom = std::max(bottom, y);
+    }
+  EXPECT_GT(n, 200u);
+  // The far rectangle at 2.5 m: 1 m wide, 0.18 m high, centred.
+  const double px_per_m = 120.0 / std::tan(M_PI / 12) / 2.5;
+  EXPECT_NEAR(right - left, 1.0 * px_per_m, 6.0);
+  EXPECT_NEAR(bottom - top, 2 * 0.5 * std::tan(M_PI / 18) * px_per_m, 6.0);
+  EXPECT_NEAR(0.5 * (left + right), 160.0, 3.0);
+  EXPECT_NEAR(0.5 * (top + bottom), 120.0, 3.0);
+}
+
+TEST(SceneSnapshot, FrustumLabelIsDrawnNextToTheApexInsideThePicture)
+{
+  // A frustum looking right from near the left edge: the label goes left of the apex,
+  // away from the frustum, and is moved back inside the picture.
+  const auto render = [](const std::string& label) {
+    SceneSnapshot::Config config = frontCamera(320, 240);
+    config.label_size_px = 20;
+    SceneSnapshot snapshot(config);
+    const Pose T_W_C(
+        Eigen::Vector3d(2.0, 0.45, 0.0),
+        Eigen::Quaterniond(Eigen::AngleAxisd(-M_PI / 2, Eigen::Vector3d::UnitZ())));
+    snapshot.addCameraFrustum(T_W_C, 1.0, 0.8, 0.3, distinctColor(2), label);
+    return snapshot.renderImage();
+  };
+  const RgbImage plain = render("");
+  const RgbImage labelled = render("3");
+  // The apex in the picture (see the previous test for the scale).
+  const double px_per_m = 120.0 / std::tan(M_PI / 12) / 2.0;
+  const double apex_x = 160.0 - 0.45 * px_per_m;
+  ASSERT_GT(apex_x, 0.0);
+  std::size_t changed = 0, far_off = 0;
+  for (int y = 0; y < plain.height; ++y)
+    for (int x = 0; x < plain.width; ++x) {
+      bool differs = false;
+      for (int c = 0; c < 3; ++c)
+        differs = differs || std::abs(plain.at(x, y)[c] - labelled.at(x, y)[c]) > 30;
+      if (!differs)
+        continue;
+      ++changed;
+      far_off += std::hypot(x - apex_x, y - 120.0) > 40.0;
+    }
+  EXPECT_GT(changed, 30u);
+  EXPECT_EQ(far_off, 0u);
+}
+
+TEST(SceneSnapshot, FadedPlantWithVoxelsPathAndNumberedFrustums)
+{
+  // What `plantnbv reconstruct --snapshot` draws: the plant faded, occupied voxels
+  // (here the 1 cm voxels of the plant's front half), the camera path and its views.
+  const plantnbv::Plant& plant = paperPlant();
+  std::set<std::tuple<int, int, int>> keys;
+  for (const Eigen::Vector3f& v : plant.mesh.vertices)
+    if (v.x() < 1.0f)
+      keys.emplace(int(std::floor(v.x() / 0.01f)), int(std::floor(v.y() / 0.01f)),
+                   int(std::floor(v.z() / 0.01f)));
+  std::vector<Eigen::Vector3f> voxels;
+  for (const auto& [i, j, k] : keys)
+    voxels.emplace_back(0.01f * (i + 0.5f), 0.01f * (j + 0.5f), 0.01f * (k + 0.5f));
+  const Eigen::Vector3d target(1.0, 0.0, 1.15);
+  std::vector<Eigen::Vector3d> path;
+  std::vector<Pose> views;
+  for (int i = 0; i < 3; ++i) {
+    const double angle = (i - 1) * 45.0 * M_PI / 180.0;
+    path.emplace_back(
+        target + Eigen::Vector3d(-0.5 * std::cos(angle), 0.5 * std::sin(angle), 0.1 * i));
+    views.push_back(lookAt(path.back(), target));
+  }
+
+  SceneSnapshot snapshot;
+  snapshot.addMesh(plant.mesh, 0.25);
+  snapshot.addPoints(voxels, distinctColor(6), 4.0f);
+  snapshot.addPolyline(path, distinctColor(7), 2.0f);
+  for (std::size_t i = 0; i < views.size(); ++i)
+    snapshot.addCameraFrustum(views[i], 69.0 * M_PI / 180.0, 42.0 * M_PI / 180.0, 0.15,
+                              distinctColor(0), std::to_string(i + 1));
+  // The automatic camera keeps every frustum in the picture.
+  Eigen::Vector3d min, max;
+  snapshot.bounds(min, max);
+  for (const auto& p : path)
+    EXPECT_TRUE((p.array() >= min.array() - 1e-6).all() &&
+                (p.array() <= max.array() + 1e-6).all());
+
+  const std::string path_png = outputPath("viz_nbv_snapshot.png");
+  std::remove(path_png.c_str());
+  snapshot.render(path_png);
+  const RgbImage image = readPng(path_png);
+  ASSERT_EQ(image.width, 1200);
+  ASSERT_EQ(image.height, 900);
+  std::size_t white = 0;
+  for (int y = 0; y < image.height; ++y)
+    for (int x = 0; x < image.width; ++x)
+      white += isWhite(image.at(x, y));
+  EXPECT_LT(white / (1200.0 * 900.0), 0.97);
+  EXPECT_GT(countNear(image, distinctColor(0), 8), 300u); // frustums
+  EXPECT_GT(countNear(image, distinctColor(7), 8), 100u); // path (black)
+}
+
+TEST(SceneSnapshot, RejectsInvalidOpacityAndFrustums)
+{
+  using plantnbv::InvalidArgumentError;
+  const plantnbv::TriangleMesh mesh = square(1.0, 0.1);
+  SceneSnapshot snapshot;
+  for (double opacity : {0.0, -0.5, 1.01, std::numeric_limits<double>::quiet_NaN()}) {
+    EXPECT_THROW(snapshot.addMesh(mesh, opacity), InvalidArgumentError) << opacity;
+    EXPECT_THROW(snapshot.addMesh(mesh, kBlue, opacity), InvalidArgumentError) << opacity;
+  }
+  try {
+    snapshot.addMesh(mesh, kBlue, 1.5);
+    FAIL() << "no exception";
+  } catch (const InvalidArgumentError& e) {
+    EXPECT_NE(std::string(e.what()).find("1.5"), std::string::npos) << e.what();
+  }
+  const Pose pose;
+  EXPECT_THROW(snapshot.addCameraFrustum(pose, 0.0, 1.0, 0.2, kBlue),
+               InvalidArgumentError);
+  EXPECT_THROW(snapshot.addCameraFrustum(pose, 1.0, M_PI, 0.2, kBlue),
+               InvalidArgumentError);
+  EXPECT_THROW(snapshot.addCameraFrustum(pose, 1.0, 1.0, 0.0, kBlue),
+               InvalidArgumentError);
+  EXPECT_THROW(snapshot.addCameraFrustum(pose, 1.0, 1.0, 0.2, Rgb{2, 0, 0}),
+               InvalidArgumentError);
+  EXPECT_THROW(snapshot.addCameraFrustum(pose, 1.0, 1.0, 0.2, kBlue, "1", 0.0f),
+               InvalidArgumentError);
+  Pose broken;
+  broken.position.x() = std::numeric_limits<double>::infinity();
+  EXPECT_THROW(snapshot.addCameraFrustum(broken, 1.0, 1.0, 0.2, kBlue),
+               InvalidArgumentError);
+  broken = Pose();
+  broken.orientation.coeffs().setZero();
+  EXPECT_THROW(snapshot.addCameraFrustum(broken, 1.0, 1.0, 0.2, kBlue),
+               InvalidArgumentError);
+  EXPECT_THROW(snapshot.addPolyline({Eigen::Vector3d::Zero(), Eigen::Vector3d::Ones()},
+                                    kBlue, 25.0f),
+               InvalidArgumentError);
+  EXPECT_TRUE(snapshot.empty());
+
+  SceneSnapshot::Config config;
+  config.label_size_px = -1;
+  EXPECT_THROW(SceneSnapshot{config}, InvalidArgumentError);
+  EXPECT_NE(SceneSnapshot::Config().toString().find("label_size_px: 0"),
+            std::string::npos);
 }

@@ -15,6 +15,7 @@
 
 #include <plantnbv/common/error.h>
 #include <plantnbv/octree/occupancy_map.h>
+#include <plantnbv/octree/ray_traversal.h>
 
 // This file must round like OctoMap: no fused multiply-add contraction (CMakeLists.txt
 // compiles it with -ffp-contract=off), no fast-math.
@@ -33,9 +34,10 @@ double msSince(Clock::time_point start)
   return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
 }
 
-/// OctoMap's tree_max_val: key 32768 is the voxel [0, resolution) on each axis.
-constexpr int kTreeMaxVal = 32768;
-constexpr int kTreeDepth = 16;
+using ray_traversal::coordToKeyChecked;
+using ray_traversal::kTreeDepth;
+using ray_traversal::kTreeMaxVal;
+using ray_traversal::traverseRay;
 
 /// The per-frame bitset is made of blocks of 64^3 voxels aligned with the octree (an
 /// octree node at depth 10). Inside a block, voxel (x, y, z) (0..63 each) is bit
@@ -82,120 +84,6 @@ struct SpreadTable {
   }
 };
 constexpr SpreadTable kSpread;
-
-/// OctoMap's coordToKeyChecked(double): key floor(coordinate / resolution) + 32768 if
-/// it lies in [0, 65536). Range-checked before the int conversion, which OctoMap does
-/// unchecked (undefined for huge values).
-bool coordToKeyChecked(double resolution_factor, double coordinate, int& key)
-{
-  const double f = std::floor(resolution_factor * coordinate);
-  if (!(f >= -kTreeMaxVal && f < kTreeMaxVal))
-    return false;
-  key = static_cast<int>(f) + kTreeMaxVal;
-  return true;
-}
-
-bool coordToKeyChecked(double resolution_factor, const float p[3], int key[3])
-{
-  return coordToKeyChecked(resolution_factor, p[0], key[0]) &&
-         coordToKeyChecked(resolution_factor, p[1], key[1]) &&
-         coordToKeyChecked(resolution_factor, p[2], key[2]);
-}
-
-/// OctoMap's keyToCoord(key): the voxel centre.
-double keyToCoord(double resolution, int key)
-{
-  return (static_cast<double>(key - kTreeMaxVal) + 0.5) * resolution;
-}
-
-/// The voxels of the segment origin -> end, end voxel excluded, in order: 3D DDA after
-/// J. Amanatides and A. Woo, "A Fast Voxel Traversal Algorithm for Ray Tracing",
-/// Eurographics 1987. This is OctoMap 1.9.7's OcTreeBaseImpl::computeRayKeys operation
-/// for operation, with the same float and double roundings, so that the voxels are the
-/// same (including its stop rule for rays that miss the end voxel by rounding). Keys are
-/// ints here (OctoMap's are uint16 and would wrap at the octree's border).
-/// The visitor gets begin(kx, ky, kz, step) for the first voxel (the origin's) and
-/// next(axis, kx, ky, kz) for every following one, which is one step along `axis` from
-/// the one before.
-template <typename Visitor>
-void traverseRay(const float origin[3], const float end[3], const int key_origin[3],
-                 const int key_end[3], double resolution, Visitor& visitor)
-{
-  if (key_origin[0] == key_end[0] && key_origin[1] == key_end[1] &&
-      key_origin[2] == key_end[2])
-    return; // same voxel
-
-  float direction[3] = {end[0] - origin[0], end[1] - origin[1], end[2] - origin[2]};
-  // point3d::norm(): float squares and sums, then a double square root.
-  const float length = static_cast<float>(std::sqrt(
-      static_cast<double>(direction[0] * direction[0] + direction[1] * direction[1] +
-                          direction[2] * direction[2])));
-  for (float& d : direction)
-    d /= length;
-
-  int step[3];
-  double t_max[3];
-  double t_delta[3];
-  for (int i = 0; i < 3; ++i) {
-    if (direction[i] > 0.0)
-      step[i] = 1;
-    else if (direction[i] < 0.0)
-      step[i] = -1;
-    else
-      step[i] = 0;
-    if (step[i] != 0) {
-      // The voxel's border in the ray's direction.
-      double voxel_border = keyToCoord(resolution, key_origin[i]);
-      voxel_border += static_cast<float>(step[i] * resolution * 0.5);
-      t_max[i] = (voxel_border - origin[i]) / direction[i];
-      t_delta[i] = resolution / std::fabs(direction[i]);
-    } else {
-      t_max[i] = std::numeric_limits<double>::max();
-      t_delta[i] = std::numeric_limits<double>::max();
-    }
-  }
-
-  visitor.begin(key_origin[0], key_origin[1], key_origin[2], step);
-
-  // The loop in scalars, not arrays indexed by the axis: 3.7 instead of 13 ns a step
-  // (the compiler keeps them in registers). Same operations in the same order.
-  double tx = t_max[0], ty = t_max[1], tz = t_max[2];
-  const double dx = t_delta[0], dy = t_delta[1], dz = t_delta[2];
-  const int sx = step[0], sy = step[1], sz = step[2];
-  const int ex = key_end[0], ey = key_end[1], ez = key_end[2];
-  int kx = key_origin[0], ky = key_origin[1], kz = key_origin[2];
-  for (;;) {
-    int axis;
-    if (tx < ty) {
-      if (tx < tz) {
-        kx += sx;
-        tx += dx;
-        axis = 0;
-      } else {
-        kz += sz;
-        tz += dz;
-        axis = 2;
-      }
-    } else {
-      if (ty < tz) {
-        ky += sy;
-        ty += dy;
-        axis = 1;
-      } else {
-        kz += sz;
-        tz += dz;
-        axis = 2;
-      }
-    }
-    if (kx == ex && ky == ey && kz == ez)
-      break;
-    // Past the segment's length without reaching the end voxel (rounding): stop.
-    const double dist_from_origin = std::min(std::min(tx, ty), tz);
-    if (dist_from_origin > length)
-      break;
-    visitor.next(axis, kx, ky, kz);
-  }
-}
 
 /// 64^3 voxels: a free bit and an occupied bit each. Bits are set concurrently with
 /// relaxed atomics (the result is a set union, independent of the order).
@@ -564,7 +452,7 @@ public:
   }
 
   /// The ray's next voxel, one step along `axis` from the last one (marked free).
-  void next(int axis, int kx, int ky, int kz)
+  void next(int axis, int kx, int ky, int kz, double /*t_entry*/)
   {
     const std::uint32_t mask = kAxisBits << axis;
     const std::uint32_t local = morton_ & mask;
@@ -734,6 +622,7 @@ void OccupancyMap::insertImpl(const pcl::PointCloud<PointT>& points_W,
     throw InvalidArgumentError(s.str());
   }
 
+  ++revision_; // before the tree changes (also if this insertion throws half-way)
   InsertStats stats;
   stats.points = points_W.size();
   const auto n = static_cast<std::int64_t>(points_W.size());
@@ -902,6 +791,7 @@ void OccupancyMap::insertImpl(const pcl::PointCloud<PointT>& points_W,
 
 void OccupancyMap::clear()
 {
+  ++revision_;
   tree_->clear();
   last_stats_ = InsertStats();
 }

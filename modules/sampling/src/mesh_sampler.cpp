@@ -99,4 +99,10 @@ void MeshSampler::sample(CloudXYZL& cloud) const
   });
 }
 
+std::size_t groundTruthSampleCount(double area_m2, double resolution)
+{
+  const double n = std::ceil(8.0 * area_m2 / (resolution * resolution));
+  return static_cast<std::size_t>(std::clamp(n, 1e4, 2e7));
+}
+
 } // namespace plantnbv

@@ -1,4 +1,5 @@
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstring>
 #include <sstream>
@@ -38,8 +39,12 @@ namespace viz {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
-/// Opacity of the ROI lines drawn over everything, where the plant hides them.
-constexpr double kHiddenRoiOpacity = 0.35;
+/// Opacity of the lines (ROIs, frustums, polylines) drawn over everything, where the
+/// plant hides them.
+constexpr double kHiddenLineOpacity = 0.35;
+/// Depth peeling of translucent meshes: at most this many peels (dual depth peeling
+/// takes the nearest and the farthest layer in each), the rest is blended unsorted.
+constexpr int kMaxPeels = 8;
 
 std::string str(double v)
 {
@@ -86,6 +91,9 @@ void checkConfig(const SceneSnapshot::Config& c)
                                " is outside [0, 0.5)");
   if (c.title_size_px < 0 || c.title_size_px > 1000)
     throw InvalidArgumentError("title_size_px " + std::to_string(c.title_size_px) +
+                               " is outside [0, 1000]");
+  if (c.label_size_px < 0 || c.label_size_px > 1000)
+    throw InvalidArgumentError("label_size_px " + std::to_string(c.label_size_px) +
                                " is outside [0, 1000]");
   if (c.multisamples < 0 || c.multisamples > 16)
     throw InvalidArgumentError("multisamples " + std::to_string(c.multisamples) +
@@ -147,7 +155,7 @@ void setColor(vtkProperty* property, const Rgb& color)
 /// A smooth-shaded, two-sided actor for the triangles `tris` of `mesh`.
 vtkSmartPointer<vtkActor> surfaceActor(const TriangleMesh& mesh,
                                        const std::vector<std::size_t>& tris,
-                                       const Rgb& color, bool glossy)
+                                       const Rgb& color, bool glossy, double opacity)
 {
   std::vector<vtkIdType> remap(mesh.vertices.size(), -1);
   std::vector<Eigen::Vector3f> vertices;
@@ -198,7 +206,38 @@ vtkSmartPointer<vtkActor> surfaceActor(const TriangleMesh& mesh,
   property->SetSpecular(glossy ? 0.35 : 0.05);
   property->SetSpecularPower(glossy ? 30.0 : 10.0);
   property->SetSpecularColor(1.0, 1.0, 1.0);
+  property->SetOpacity(opacity);
   return actor;
+}
+
+/// Unlit lines of one colour between `vertices`, `segments` holding 2 vertex ids per
+/// line: the actor drawn with the scene, and the same lines faint for the overlay.
+std::array<vtkSmartPointer<vtkActor>, 2>
+lineActors(const std::vector<Eigen::Vector3f>& vertices,
+           const std::vector<vtkIdType>& segments, const Rgb& color, float line_width_px)
+{
+  vtkNew<vtkPoints> points;
+  points->SetData(floatArray3(vertices));
+  vtkNew<vtkPolyData> poly;
+  poly->SetPoints(points);
+  poly->SetLines(uniformCells(segments, 2));
+  vtkNew<vtkPolyDataMapper> mapper;
+  mapper->SetInputData(poly);
+  mapper->ScalarVisibilityOff();
+  std::array<vtkSmartPointer<vtkActor>, 2> actors;
+  for (std::size_t overlay = 0; overlay < 2; ++overlay) {
+    auto actor = vtkSmartPointer<vtkActor>::New();
+    actor->SetMapper(mapper);
+    vtkProperty* property = actor->GetProperty();
+    setColor(property, color);
+    property->SetLineWidth(line_width_px);
+    // Unlit: the lines keep exactly the caller's colour.
+    property->LightingOff();
+    if (overlay)
+      property->SetOpacity(kHiddenLineOpacity);
+    actors[overlay] = actor;
+  }
+  return actors;
 }
 
 /// Points drawn as shaded spheres; `colors` holds 3 bytes per point or is empty.
@@ -258,6 +297,120 @@ int titleSizePx(const SceneSnapshot::Config& c)
   return c.title_size_px > 0 ? c.title_size_px : std::max(8, c.height / 22);
 }
 
+int labelSizePx(const SceneSnapshot::Config& c)
+{
+  return c.label_size_px > 0 ? c.label_size_px : std::max(8, c.height / 30);
+}
+
+/// Projects world points into the picture of `pose` as VTK does (perspective, vertical
+/// view angle, square pixels): display coordinates in pixels, y from the bottom row.
+class Projection {
+public:
+  Projection(const CameraPose& pose, const SceneSnapshot::Config& c)
+      : position_(pose.position), width_(c.width), height_(c.height)
+  {
+    forward_ = (pose.focal_point - pose.position).normalized();
+    right_ = forward_.cross(pose.view_up).normalized();
+    up_ = right_.cross(forward_);
+    focal_px_ = 0.5 * c.height / std::tan(0.5 * c.view_angle_rad);
+  }
+  /// Distance of `p` in front of the camera along the view axis (m).
+  double depth(const Eigen::Vector3d& p) const { return (p - position_).dot(forward_); }
+  const Eigen::Vector3d& forward() const { return forward_; }
+  /// For a point in front of the camera (depth > 0).
+  Eigen::Vector2d display(const Eigen::Vector3d& p) const
+  {
+    const Eigen::Vector3d d = p - position_;
+    const double z = d.dot(forward_);
+    return {0.5 * width_ + focal_px_ * d.dot(right_) / z,
+            0.5 * height_ + focal_px_ * d.dot(up_) / z};
+  }
+
+private:
+  Eigen::Vector3d position_, forward_, right_, up_;
+  double width_, height_, focal_px_;
+};
+
+/// A frustum's label, placed at render time when the camera is known.
+struct FrustumLabel {
+  std::string text;
+  Rgb color;
+  Eigen::Vector3d apex; ///< the camera's position (world frame)
+  Eigen::Vector3d axis; ///< unit viewing direction
+  double depth_m = 0.0; ///< the frustum's length along `axis`
+};
+
+/// Adds the text actors of `labels` to `overlay`, a renderer in a window of the
+/// configured size: next to each apex, on the side away from its frustum, inside the
+/// picture. Labels whose apex is behind the camera or outside the picture are skipped.
+void addLabelActors(const std::vector<FrustumLabel>& labels, const CameraPose& pose,
+                    const SceneSnapshot::Config& c, vtkRenderer* overlay)
+{
+  const Projection projection(pose, c);
+  const int size_px = labelSizePx(c);
+  for (const FrustumLabel& label : labels) {
+    const double apex_depth = projection.depth(label.apex);
+    if (!(apex_depth > 1e-6))
+      continue;
+    const Eigen::Vector2d apex = projection.display(label.apex);
+    if (apex.x() < 0.0 || apex.x() > c.width || apex.y() < 0.0 || apex.y() > c.height)
+      continue;
+    // A point on the frustum's axis in front of the camera: its far end, or nearer when
+    // the far end is behind the camera.
+    double t = label.depth_m;
+    const double toward = label.axis.dot(projection.forward());
+    if (apex_depth + t * toward < 0.5 * apex_depth)
+      t = -0.5 * apex_depth / toward;
+    Eigen::Vector2d away = apex - projection.display(label.apex + t * label.axis);
+    // Looking along the frustum's axis: any side will do.
+    away = away.norm() > 1.0 ? Eigen::Vector2d(away.normalized())
+                             : Eigen::Vector2d(1.0, 1.0).normalized();
+
+    auto text = vtkSmartPointer<vtkTextActor>::New();
+    text->SetInput(label.text.c_str());
+    vtkTextProperty* property = text->GetTextProperty();
+    property->SetFontSize(size_px);
+    property->SetFontFamilyToArial();
+    property->BoldOn();
+    property->SetColor(label.color.r, label.color.g, label.color.b);
+    property->SetJustificationToCentered();
+    property->SetVerticalJustificationToCentered();
+    // A box behind the letters keeps them readable over the plant and lines: pale for
+    // dark colours, dark for light ones (yellow).
+    const double luminance =
+        0.2126 * label.color.r + 0.7152 * label.color.g + 0.0722 * label.color.b;
+    const double box = luminance > 0.6 ? 0.15 : 1.0;
+    property->SetBackgroundColor(box, box, box);
+    property->SetBackgroundOpacity(0.8);
+    overlay->AddActor2D(text);
+
+    // The box's half-size: measured by VTK (FreeType), or estimated.
+    double extent[2] = {0.0, 0.0};
+    text->GetSize(overlay, extent);
+    if (!(extent[0] > 0.0 && extent[1] > 0.0)) {
+      extent[0] = 0.65 * size_px * label.text.size() + 4.0;
+      extent[1] = 1.2 * size_px + 4.0;
+    }
+    const Eigen::Vector2d half(0.5 * extent[0], 0.5 * extent[1]);
+    // The box's centre moves from the apex along `away` until the box clears the apex,
+    // plus a gap.
+    const double gap = 0.25 * size_px;
+    const double reach =
+        std::min(std::abs(away.x()) > 1e-9 ? half.x() / std::abs(away.x()) : 1e300,
+                 std::abs(away.y()) > 1e-9 ? half.y() / std::abs(away.y()) : 1e300);
+    Eigen::Vector2d center = apex + (reach + gap) * away;
+    // Inside the picture, with 2 pixels to spare (centred where it cannot fit).
+    const auto clamp = [](double v, double half_size, double size) {
+      const double lo = half_size + 2.0, hi = size - half_size - 2.0;
+      return lo <= hi ? std::clamp(v, lo, hi) : 0.5 * size;
+    };
+    center.x() = clamp(center.x(), half.x(), c.width);
+    center.y() = clamp(center.y(), half.y(), c.height);
+    text->GetPositionCoordinate()->SetCoordinateSystemToDisplay();
+    text->SetPosition(center.x(), center.y());
+  }
+}
+
 std::uint8_t toByte(float v)
 {
   return static_cast<std::uint8_t>(std::lround(std::clamp(v, 0.0f, 1.0f) * 255.0f));
@@ -280,16 +433,19 @@ std::string SceneSnapshot::Config::toString() const
       << "\nauto_azimuth_rad: " << auto_azimuth_rad
       << "\nauto_elevation_rad: " << auto_elevation_rad
       << "\nauto_margin: " << auto_margin << "\ntitle: \"" << title
-      << "\"\ntitle_size_px: " << title_size_px << "\nmultisamples: " << multisamples
-      << "\n";
+      << "\"\ntitle_size_px: " << title_size_px << "\nlabel_size_px: " << label_size_px
+      << "\nmultisamples: " << multisamples << "\n";
   return out.str();
 }
 
 struct SceneSnapshot::Impl {
   Config config;
   std::vector<vtkSmartPointer<vtkActor>> actors;
-  /// ROI wireframes again, drawn faintly over everything (see the class comment).
+  /// Lines again (ROIs, frustums, polylines), drawn faintly over everything (see the
+  /// class comment).
   std::vector<vtkSmartPointer<vtkActor>> overlay_actors;
+  std::vector<FrustumLabel> labels;
+  bool translucent = false;   ///< a mesh with opacity below 1 was added
   Eigen::AlignedBox3d bounds; ///< empty until something is added
   /// Every point drawn (vertices, box corners, cloud points): the automatic camera fits
   /// them, not the bounding box, whose corners are often empty space.
@@ -310,6 +466,17 @@ struct SceneSnapshot::Impl {
     for (std::size_t v = 0; v < used.size(); ++v)
       if (used[v])
         extend(mesh.vertices[v]);
+  }
+  /// Adds lines (lineActors) and extends by their vertices.
+  void addLines(const std::vector<Eigen::Vector3f>& vertices,
+                const std::vector<vtkIdType>& segments, const Rgb& color,
+                float line_width_px)
+  {
+    const auto line_actors = lineActors(vertices, segments, color, line_width_px);
+    actors.push_back(line_actors[0]);
+    overlay_actors.push_back(line_actors[1]);
+    for (const auto& v : vertices)
+      extend(v);
   }
 };
 
@@ -337,8 +504,9 @@ const SceneSnapshot::Config& SceneSnapshot::getConfig() const
   return impl_->config;
 }
 
-void SceneSnapshot::addMesh(const TriangleMesh& mesh)
+void SceneSnapshot::addMesh(const TriangleMesh& mesh, double opacity)
 {
+  checkRange(opacity, 0.0, 1.0, "mesh opacity");
   mesh.validate();
   if (mesh.empty())
     return;
@@ -355,22 +523,25 @@ void SceneSnapshot::addMesh(const TriangleMesh& mesh)
     if (!by_label[label].empty()) {
       const auto part = static_cast<PartLabel>(label);
       impl_->actors.push_back(surfaceActor(mesh, by_label[label], partLabelColor(part),
-                                           part == PartLabel::fruit));
+                                           part == PartLabel::fruit, opacity));
     }
   impl_->extend(mesh);
+  impl_->translucent = impl_->translucent || opacity < 1.0;
 }
 
-void SceneSnapshot::addMesh(const TriangleMesh& mesh, const Rgb& color)
+void SceneSnapshot::addMesh(const TriangleMesh& mesh, const Rgb& color, double opacity)
 {
   checkColor(color, "mesh colour");
+  checkRange(opacity, 0.0, 1.0, "mesh opacity");
   mesh.validate();
   if (mesh.empty())
     return;
   std::vector<std::size_t> all(mesh.size());
   for (std::size_t t = 0; t < all.size(); ++t)
     all[t] = t;
-  impl_->actors.push_back(surfaceActor(mesh, all, color, false));
+  impl_->actors.push_back(surfaceActor(mesh, all, color, false, opacity));
   impl_->extend(mesh);
+  impl_->translucent = impl_->translucent || opacity < 1.0;
 }
 
 void SceneSnapshot::addRoi(const Roi& roi, const Rgb& color, float line_width_px)
@@ -397,31 +568,76 @@ void SceneSnapshot::addRoi(const Roi& roi, const Rgb& color, float line_width_px
       connectivity.push_back(base + edge[1]);
     }
   }
-  vtkNew<vtkPoints> points;
-  points->SetData(floatArray3(corners));
-  vtkNew<vtkPolyData> poly;
-  poly->SetPoints(points);
-  poly->SetLines(uniformCells(connectivity, 2));
-  vtkNew<vtkPolyDataMapper> mapper;
-  mapper->SetInputData(poly);
-  mapper->ScalarVisibilityOff();
-  for (bool overlay : {false, true}) {
-    auto actor = vtkSmartPointer<vtkActor>::New();
-    actor->SetMapper(mapper);
-    vtkProperty* property = actor->GetProperty();
-    setColor(property, color);
-    property->SetLineWidth(line_width_px);
-    // Unlit: the lines keep exactly the caller's colour.
-    property->LightingOff();
-    if (overlay) {
-      property->SetOpacity(kHiddenRoiOpacity);
-      impl_->overlay_actors.push_back(actor);
-    } else {
-      impl_->actors.push_back(actor);
+  impl_->addLines(corners, connectivity, color, line_width_px);
+}
+
+void SceneSnapshot::addCameraFrustum(const Pose& T_W_C, double horizontal_fov_rad,
+                                     double vertical_fov_rad, double depth_m,
+                                     const Rgb& color, const std::string& label,
+                                     float line_width_px)
+{
+  if (!T_W_C.position.allFinite() || !T_W_C.orientation.coeffs().allFinite())
+    throw InvalidArgumentError("the frustum's pose is not finite");
+  if (!(T_W_C.orientation.norm() > 1e-12))
+    throw InvalidArgumentError("the frustum's pose has a zero quaternion");
+  for (double fov : {horizontal_fov_rad, vertical_fov_rad})
+    if (!(fov > 0.0 && fov < kPi))
+      throw InvalidArgumentError("frustum field of view " + str(fov) +
+                                 " rad is outside (0, pi)");
+  checkRange(depth_m, 0.0, 1e3, "frustum depth (m)");
+  checkColor(color, "frustum colour");
+  checkRange(line_width_px, 0.0, 20.0, "frustum line width (px)");
+
+  const Eigen::Quaterniond q = T_W_C.orientation.normalized();
+  const double half_y = depth_m * std::tan(0.5 * horizontal_fov_rad);
+  const double half_z = depth_m * std::tan(0.5 * vertical_fov_rad);
+  // The apex, then the far rectangle's corners in order round it (body frame: x
+  // forward, y left, z up): top left, top right, bottom right, bottom left.
+  const Eigen::Vector3d corners_C[5] = {{0.0, 0.0, 0.0},
+                                        {depth_m, half_y, half_z},
+                                        {depth_m, -half_y, half_z},
+                                        {depth_m, -half_y, -half_z},
+                                        {depth_m, half_y, -half_z}};
+  std::vector<Eigen::Vector3f> vertices;
+  for (const auto& p_C : corners_C)
+    vertices.push_back((T_W_C.position + q * p_C).cast<float>());
+  const std::vector<vtkIdType> segments = {0, 1, 0, 2, 0, 3, 0, 4,
+                                           1, 2, 2, 3, 3, 4, 4, 1};
+  impl_->addLines(vertices, segments, color, line_width_px);
+  if (!label.empty())
+    impl_->labels.push_back(
+        {label, color, T_W_C.position, q * Eigen::Vector3d::UnitX(), depth_m});
+}
+
+void SceneSnapshot::addPolyline(const std::vector<Eigen::Vector3d>& points,
+                                const Rgb& color, float line_width_px)
+{
+  checkColor(color, "polyline colour");
+  checkRange(line_width_px, 0.0, 20.0, "polyline line width (px)");
+  std::vector<Eigen::Vector3f> vertices;
+  std::vector<vtkIdType> segments;
+  // Vertices of the current unbroken run start at run_begin.
+  std::size_t run_begin = 0;
+  for (const Eigen::Vector3d& p : points) {
+    if (!p.allFinite()) {
+      // A lone point before the break draws nothing: drop it.
+      if (vertices.size() == run_begin + 1)
+        vertices.pop_back();
+      run_begin = vertices.size();
+      continue;
+    }
+    vertices.push_back(p.cast<float>());
+    const auto i = static_cast<vtkIdType>(vertices.size() - 1);
+    if (vertices.size() > run_begin + 1) {
+      segments.push_back(i - 1);
+      segments.push_back(i);
     }
   }
-  for (const auto& c : corners)
-    impl_->extend(c);
+  if (vertices.size() == run_begin + 1)
+    vertices.pop_back();
+  if (segments.empty())
+    return;
+  impl_->addLines(vertices, segments, color, line_width_px);
 }
 
 void SceneSnapshot::addPoints(const std::vector<Eigen::Vector3f>& points,
@@ -467,6 +683,8 @@ void SceneSnapshot::clear()
 {
   impl_->actors.clear();
   impl_->overlay_actors.clear();
+  impl_->labels.clear();
+  impl_->translucent = false;
   impl_->bounds.setEmpty();
   impl_->points.clear();
 }
@@ -580,6 +798,17 @@ RgbImage SceneSnapshot::renderImage() const
                       impl_->bounds.min().y(), impl_->bounds.max().y(),
                       impl_->bounds.min().z(), impl_->bounds.max().z()};
   renderer->ResetCameraClippingRange(bounds);
+  // Translucent meshes are sorted per pixel by depth peeling (see the class comment).
+  // VTK 9.1's peeling draws nothing translucent into a multisampled window, and its
+  // alternative without peeling (weighted-average blending) ignores which surface is
+  // in front; so multisampling gives way to FXAA here.
+  const bool peel = impl_->translucent;
+  if (peel) {
+    renderer->UseDepthPeelingOn();
+    renderer->SetMaximumNumberOfPeels(kMaxPeels);
+    renderer->SetOcclusionRatio(0.0);
+    renderer->SetUseFXAA(c.multisamples > 1);
+  }
 
   // A second layer with its own depth buffer: ROI lines hidden by the plant show through.
   vtkNew<vtkRenderer> overlay;
@@ -611,11 +840,16 @@ RgbImage SceneSnapshot::renderImage() const
   vtkNew<vtkRenderWindow> window;
   window->SetDisplayId(display.handle());
   window->SetOffScreenRendering(1);
-  window->SetMultiSamples(c.multisamples);
+  window->SetMultiSamples(peel ? 0 : c.multisamples);
   window->SetSize(c.width, c.height);
   window->SetNumberOfLayers(2);
   window->AddRenderer(renderer);
   window->AddRenderer(overlay);
+  if (peel)
+    window->AlphaBitPlanesOn();
+  // Frustum labels, placed now that the picture's size and camera are known: they need
+  // the window for their size.
+  addLabelActors(impl_->labels, pose, c, overlay);
   window->Render();
 
   vtkNew<vtkWindowToImageFilter> grab;

@@ -157,6 +157,11 @@ public:
   /// \brief Forgets everything (the configuration stays).
   void clear();
 
+  /// \brief A counter that `insert` and `clear` increment (before they change the
+  /// tree): caches built from the map (e.g. the planner's InformationGain) compare it to
+  /// know whether they are stale. Starts at 0.
+  std::uint64_t revision() const { return revision_; }
+
   /// \brief The key of the voxel holding `point_W`. \return false if the point is not
   /// finite or lies outside the octree (key then unchanged).
   bool computeKey(const Eigen::Vector3d& point_W, octomap::OcTreeKey& key) const;
@@ -202,6 +207,7 @@ private:
   /// Per-frame buffers, kept between frames.
   std::unique_ptr<detail::OccupancyMapScratch> scratch_;
   InsertStats last_stats_;
+  std::uint64_t revision_ = 0;
 };
 
 } // namespace plantnbv

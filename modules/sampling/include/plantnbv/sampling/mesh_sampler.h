@@ -62,4 +62,9 @@ private:
   std::uint64_t seed_ = 0;
 };
 
+/// \brief The number of surface samples that gives ground truth at a voxel size: 8 per
+/// resolution^2 of surface, so that every voxel the surface crosses receives points; at
+/// least 10,000, at most 20 million. \pre resolution > 0.
+std::size_t groundTruthSampleCount(double area_m2, double resolution);
+
 } // namespace plantnbv

@@ -1,7 +1,8 @@
 #pragma once
 /// \file snapshot.h
-/// \brief Offscreen pictures of a scene: a labelled plant mesh coloured by part, ROI
-/// boxes as wireframes and point clouds, rendered by VTK into a PNG.
+/// \brief Offscreen pictures of a scene: a labelled plant mesh coloured by part (opaque
+/// or faded), ROI boxes as wireframes, point clouds, camera frustums with numbers and
+/// polylines such as a camera path, rendered by VTK into a PNG.
 ///
 /// World frame as everywhere in plantnbv: metres, x forward from the robot, z up.
 /// Rendering needs an X server (display.h): run programs that render under
@@ -16,6 +17,7 @@
 #include <Eigen/Core>
 
 #include <plantnbv/common/box.h>
+#include <plantnbv/common/pose.h>
 #include <plantnbv/common/triangle_mesh.h>
 #include <plantnbv/viz/palette.h>
 
@@ -58,9 +60,25 @@ struct CameraPose {
 /// spheres. Lighting is VTK's light kit (key, fill, back and head lights) with some
 /// ambient light.
 ///
+/// Meshes may be translucent (`opacity` below 1), e.g. a faded plant around the
+/// occupied voxels of a reconstruction: translucent surfaces are blended in depth order
+/// by dual depth peeling (up to 8 peels of the nearest and farthest layer left; deeper
+/// layers, if any, are blended unsorted), so the result does not depend on the order
+/// things were added; points, lines and opaque meshes show through them. VTK 9.1 cannot
+/// peel in a multisampled picture, so a scene with translucent meshes is anti-aliased by
+/// FXAA instead (when Config::multisamples > 1; edges a little softer) and renders more
+/// slowly (each peel draws the translucent meshes again).
+///
+/// Camera frustums and polylines (a camera path) are lines like the ROIs: unlit, one
+/// colour, their hidden parts showing through faintly. A frustum's label is text in
+/// the frustum's colour on a pale box (a dark one for light colours), drawn over
+/// everything next to the apex, on the side away from the frustum, and kept inside the
+/// picture; labels whose apex is behind the camera or outside the picture (an explicit
+/// camera) are not drawn.
+///
 /// What is added is copied into VTK's structures at once; the arguments may be destroyed
-/// afterwards. Empty meshes, clouds and ROIs add nothing. A scene with nothing in it
-/// cannot be rendered (render throws): a picture of the background alone is almost
+/// afterwards. Empty meshes, clouds, ROIs and polylines add nothing. A scene with nothing
+/// in it cannot be rendered (render throws): a picture of the background alone is almost
 /// always a mistake.
 ///
 /// Camera: by default it is placed automatically, front-left of the scene and slightly
@@ -70,8 +88,9 @@ struct CameraPose {
 /// everything allows (every vertex, box corner and point inside the picture, with
 /// `auto_margin` to spare). It then moves sideways, keeping its direction, until the
 /// scene is centred in the picture (perspective makes the near side look bigger), so
-/// the focal point can differ from the centre by a few centimetres. A title gets a band
-/// of its own at the top. Config::camera replaces it.
+/// the focal point can differ from the centre by a few centimetres. Frustum corners and
+/// polyline points count as points (labels do not: they are moved inside the picture).
+/// A title gets a band of its own at the top. Config::camera replaces it.
 ///
 /// Thread safety: not thread-safe; render from one thread at a time (Xlib, OpenGL).
 /// \code
@@ -79,6 +98,16 @@ struct CameraPose {
 /// snapshot.addMesh(plant.mesh);
 /// snapshot.addRoi(plantnbv::wholePlantRoi(plant), plantnbv::viz::distinctColor(0));
 /// snapshot.render("plant.png"); // a 1200 x 900 PNG
+///
+/// // The reconstruction: plant faded, occupied voxels, the camera path with its views.
+/// plantnbv::viz::SceneSnapshot nbv;
+/// nbv.addMesh(plant.mesh, 0.25);
+/// nbv.addPoints(voxel_centers, plantnbv::viz::distinctColor(6), 4.0f);
+/// nbv.addPolyline(view_positions, plantnbv::viz::distinctColor(7));
+/// for (std::size_t i = 0; i < views.size(); ++i)
+///   nbv.addCameraFrustum(views[i], fov_h_rad, fov_v_rad, 0.15,
+///                        plantnbv::viz::distinctColor(0), std::to_string(i + 1));
+/// nbv.render("nbv.png");
 /// \endcode
 class SceneSnapshot {
 public:
@@ -103,8 +132,11 @@ public:
     std::string title;
     /// Height of the title's letters in pixels; 0 (default) = height / 22.
     int title_size_px = 0;
+    /// Height of the letters of frustum labels in pixels, in [0, 1000]; 0 (default) =
+    /// height / 30 (30 px at the default size).
+    int label_size_px = 0;
     /// Multisample anti-aliasing: samples per pixel, in [0, 16] (0 or 1: none);
-    /// default 8.
+    /// default 8. With translucent meshes, more than 1 means FXAA instead (see above).
     int multisamples = 8;
 
     /// \brief One line per field, for logs.
@@ -128,12 +160,16 @@ public:
 
   /// \brief Adds a mesh coloured by part label (partLabelColor); a mesh without labels is
   /// drawn in the colour of PartLabel::unknown.
-  /// \throws FormatError if the mesh is invalid (TriangleMesh::validate).
-  void addMesh(const TriangleMesh& mesh);
+  /// \param[in] opacity in (0, 1]; default 1 (opaque). Below 1 the mesh is translucent
+  /// (faded: 0.2-0.35 keeps the parts recognisable and what is inside visible).
+  /// \throws FormatError if the mesh is invalid (TriangleMesh::validate);
+  /// InvalidArgumentError for an opacity outside (0, 1].
+  void addMesh(const TriangleMesh& mesh, double opacity = 1.0);
   /// \brief Adds a mesh in one colour, ignoring its labels, e.g. a reconstruction.
+  /// \param[in] opacity in (0, 1]; default 1 (opaque), as above.
   /// \throws FormatError if the mesh is invalid; InvalidArgumentError for a colour
-  /// outside [0, 1].
-  void addMesh(const TriangleMesh& mesh, const Rgb& color);
+  /// outside [0, 1] or an opacity outside (0, 1].
+  void addMesh(const TriangleMesh& mesh, const Rgb& color, double opacity = 1.0);
 
   /// \brief Adds every box of `roi` as a wireframe in `color`, lines `line_width_px`
   /// wide (default 2).
@@ -153,6 +189,36 @@ public:
   void addPoints(const std::vector<Eigen::Vector3f>& points,
                  const std::vector<PartLabel>& labels, float point_size_px = 3.0f);
 
+  /// \brief Adds a camera's viewing frustum as lines: the pyramid from the camera's
+  /// position (the apex) to the rectangle `depth_m` ahead, and that rectangle.
+  ///
+  /// The camera body frame is plantnbv's (pose.h): x forward (the viewing direction), y
+  /// left, z up; the rectangle's corners are at x = depth_m, y = +-depth_m *
+  /// tan(horizontal_fov_rad / 2), z = +-depth_m * tan(vertical_fov_rad / 2).
+  /// \param[in] T_W_C the camera body frame in the world (metres).
+  /// \param[in] horizontal_fov_rad, vertical_fov_rad full opening angles, in (0, pi).
+  /// \param[in] depth_m distance of the far rectangle from the apex (m), in (0, 1e3].
+  /// \param[in] color colour of the lines and the label.
+  /// \param[in] label text next to the apex, e.g. the view's number "3"; empty
+  /// (default) = none. Letters Config::label_size_px high.
+  /// \param[in] line_width_px in (0, 20]; default 2.
+  /// \throws InvalidArgumentError for a non-finite pose or a zero quaternion, an angle,
+  /// depth, colour or line width out of range.
+  void addCameraFrustum(const Pose& T_W_C, double horizontal_fov_rad,
+                        double vertical_fov_rad, double depth_m, const Rgb& color,
+                        const std::string& label = "", float line_width_px = 2.0f);
+
+  /// \brief Adds a line through `points` in order (metres, world frame), e.g. the camera
+  /// path of a reconstruction, `line_width_px` wide (default 2).
+  ///
+  /// A non-finite point breaks the line: the parts before and after it are drawn, not
+  /// joined; a part of a single point draws nothing, so a polyline without 2
+  /// consecutive finite points adds nothing.
+  /// \throws InvalidArgumentError for a colour outside [0, 1] or a line width outside
+  /// (0, 20].
+  void addPolyline(const std::vector<Eigen::Vector3d>& points, const Rgb& color,
+                   float line_width_px = 2.0f);
+
   /// \brief Removes everything added.
   void clear();
   /// \brief True when nothing that can be drawn was added.
@@ -167,7 +233,8 @@ public:
   CameraPose camera() const;
 
   /// \brief Renders the scene offscreen into an image of the configured size (about
-  /// 0.2-0.4 s for a 240k-triangle plant at 1200 x 900 with Mesa's software renderer).
+  /// 0.2-0.4 s for a 240k-triangle plant at 1200 x 900 with Mesa's software renderer;
+  /// about twice as long with the plant translucent).
   /// \throws InvalidArgumentError when the scene is empty or the explicit camera is
   /// degenerate (position on the focal point, view up along the view axis, non-finite);
   /// Error when there is no X display (display.h gives the message).

@@ -1,0 +1,362 @@
+// plantnbv reconstruct: one trial (capture at v0, then plan -> capture -> insert up to
+// the view budget), scored after every view; writes steps.csv, summary.json, the map and
+// the reconstruction.
+
+#include <charconv>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <iostream>
+#include <optional>
+#include <sstream>
+
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+#include <pcl/point_cloud.h>
+#include <pcl/point_types.h>
+
+#include <plantnbv/common/error.h>
+#include <plantnbv/experiment/trial.h>
+#include <plantnbv/io/cloud_io.h>
+#include <plantnbv/io/roi_io.h>
+#include <plantnbv/metrics/reconstruction_metrics.h>
+#include <plantnbv/viz/palette.h>
+#include <plantnbv/viz/snapshot.h>
+
+#include "commands.h"
+#include "plant_source.h"
+#include "trial_config.h"
+
+namespace plantnbv {
+namespace app {
+
+namespace {
+
+struct ReconstructOptions {
+  PlantSourceOptions source;
+  std::string config_file;
+  std::optional<std::string> planner;
+  std::optional<int> pattern;
+  std::string attention = "whole-plant";
+  std::optional<int> views;
+  std::optional<int> candidates;
+  std::optional<double> resolution;
+  std::optional<double> sector_height;
+  std::optional<std::uint64_t> seed;
+  std::optional<int> threads;
+  std::string output_dir;
+  bool snapshot = false;
+};
+
+/// The plant's ROI of an evaluation level, if it has one. Level names are the CSV's.
+struct LevelSource {
+  const char* level;      ///< column prefix in steps.csv
+  const char* roi;        ///< name in PlacedPlant::rois
+  const char* attention;  ///< --attention value
+  bool average_boxes;
+};
+constexpr LevelSource kLevels[] = {
+    {"whole_plant", "whole_plant", "whole-plant", false},
+    {"main_stem", "main_stem", "main-stem", false},
+    {"leaf_nodes", "leaf_nodes", "leaf-nodes", true},
+    {"fruit", "fruits", "fruit", true},
+};
+
+const Roi* findRoi(const PlacedPlant& placed, const std::string& name)
+{
+  for (const auto& [roi_name, roi] : placed.rois)
+    if (roi_name == name)
+      return &roi;
+  return nullptr;
+}
+
+Roi attentionRoi(const PlacedPlant& placed, const std::string& attention)
+{
+  for (const LevelSource& l : kLevels)
+    if (attention == l.attention) {
+      const Roi* roi = findRoi(placed, l.roi);
+      if (!roi)
+        throw InvalidArgumentError("--attention " + attention + ": the plant has no " +
+                                   l.level + " ROI (a loaded model has whole-plant and "
+                                   "the boxes of --rois; give a ROI file instead)");
+      return *roi;
+    }
+  if (std::filesystem::path(attention).has_extension())
+    return io::loadRoi(attention);
+  throw InvalidArgumentError("--attention '" + attention +
+                             "': expected whole-plant, main-stem, leaf-nodes, fruit or "
+                             "a ROI file (.yaml)");
+}
+
+std::vector<EvaluationLevel> evaluationLevels(const PlacedPlant& placed)
+{
+  std::vector<EvaluationLevel> levels;
+  for (const LevelSource& l : kLevels)
+    if (const Roi* roi = findRoi(placed, l.roi))
+      levels.push_back({l.level, *roi, l.average_boxes});
+  if (const Roi* roi = findRoi(placed, "model_rois"))
+    levels.push_back({"model_rois", *roi, true});
+  return levels;
+}
+
+TrialConfig trialConfig(const ReconstructOptions& o, const PlacedPlant& placed)
+{
+  TrialConfig c;
+  if (!o.config_file.empty())
+    loadTrialConfig(o.config_file, c);
+  if (o.planner)
+    c.planner = plannerKindFromName(*o.planner);
+  if (o.pattern)
+    c.pattern = *o.pattern;
+  if (o.views)
+    c.views = *o.views;
+  if (o.candidates) {
+    const int cells = c.grid_rows * c.grid_cols;
+    if (*o.candidates < cells || *o.candidates % cells != 0)
+      throw InvalidArgumentError("--candidates " + std::to_string(*o.candidates) +
+                                 ": expected a multiple of the " + std::to_string(cells) +
+                                 " grid cells (9, 27, 45, ...)");
+    c.samples_per_cell = *o.candidates / cells;
+  }
+  if (o.resolution)
+    c.map.resolution_m = *o.resolution;
+  if (o.seed)
+    c.seed = *o.seed;
+  if (o.threads)
+    c.threads = *o.threads;
+  // A loaded model may be taller than the paper's plants: the sector follows its height
+  // unless set (paper: 0.7 m for plants of at most 0.7 m).
+  if (o.sector_height)
+    c.sector.height_m = *o.sector_height;
+  else if (!o.source.model.empty()) {
+    Eigen::Vector3f lo, hi;
+    placed.plant.bounds(lo, hi);
+    c.sector.height_m = std::max(0.05, double(hi.z()) - placed.plant.base_position.z());
+  }
+  c.validate();
+  return c;
+}
+
+std::string csvNumber(double x)
+{
+  if (std::isnan(x))
+    return "";
+  char buffer[32]; // the shortest text that reads back to the same double
+  const auto end = std::to_chars(buffer, buffer + sizeof(buffer), x).ptr;
+  return std::string(buffer, end);
+}
+
+void writeSteps(const std::filesystem::path& path, const TrialResult& r)
+{
+  std::ofstream out(path);
+  out << "view,x,y,z,qx,qy,qz,qw,gain,candidates,plan_ms,capture_ms,insert_ms,eval_ms,"
+         "occupied_voxels";
+  for (const std::string& level : r.level_names)
+    out << "," << level << "_precision," << level << "_recall," << level << "_f1,"
+        << level << "_chamfer";
+  out << "\n";
+  for (const TrialStep& s : r.steps) {
+    const Eigen::Quaterniond& q = s.view.orientation;
+    out << s.index;
+    for (double x : {s.view.position.x(), s.view.position.y(), s.view.position.z(), q.x(),
+                     q.y(), q.z(), q.w(), s.gain})
+      out << "," << csvNumber(x);
+    out << "," << s.candidates;
+    for (double x : {s.plan_ms, s.capture_ms, s.insert_ms, s.eval_ms})
+      out << "," << std::fixed << std::setprecision(3) << x << std::defaultfloat;
+    out << "," << s.occupied_voxels;
+    for (const LevelScore& score : s.scores)
+      for (double x : {score.precision, score.recall, score.f1, score.chamfer})
+        out << "," << csvNumber(x);
+    out << "\n";
+  }
+  if (!out)
+    throw IoError("cannot write '" + path.string() + "'");
+}
+
+nlohmann::json summaryJson(const ReconstructOptions& o, const PlacedPlant& placed,
+                           const TrialConfig& c, const Trial& trial, const TrialResult& r)
+{
+  nlohmann::json j;
+  j["plant"] = {{"name", placed.plant.name}, {"description", placed.description}};
+  const CylindricalSector& sector = trial.getSector();
+  j["config"] = {
+      {"planner", plannerKindName(c.planner)},
+      {"pattern", c.pattern},
+      {"attention", o.attention},
+      {"views", c.views},
+      {"candidates", c.grid_rows * c.grid_cols * c.samples_per_cell},
+      {"seed", c.seed},
+      {"camera", c.camera.toString()},
+      {"noise", c.noise.enabled},
+      {"resolution", c.map.resolution_m},
+      {"max_range", c.map.max_range_m},
+      {"rays", {c.gain.rays_x, c.gain.rays_y}},
+      {"raycast_range", c.gain.raycast_range_m},
+      {"sector",
+       {{"axis_base", {sector.axis_base.x(), sector.axis_base.y(), sector.axis_base.z()}},
+        {"radius", sector.radius_m},
+        {"height", sector.height_m},
+        {"angle_deg", sector.angle_rad * 180.0 / M_PI}}},
+      {"config_file", o.config_file},
+  };
+  nlohmann::json levels = nlohmann::json::object();
+  for (std::size_t l = 0; l < r.level_names.size(); ++l) {
+    const std::vector<double> f1 = r.f1Curve(l);
+    const LevelScore& last = r.steps.back().scores[l];
+    auto reach = [&](double tau) {
+      const int v = viewsToReach(f1, tau);
+      return v < 0 ? nlohmann::json(nullptr) : nlohmann::json(v);
+    };
+    levels[r.level_names[l]] = {
+        {"views_to_f1_0.8", reach(0.8)},
+        {"views_to_f1_0.9", reach(0.9)},
+        {"final_f1", last.f1},
+        {"final_precision", last.precision},
+        {"final_recall", last.recall},
+        {"final_chamfer", std::isfinite(last.chamfer) ? nlohmann::json(last.chamfer)
+                                                      : nlohmann::json(nullptr)},
+        {"reference_voxels", last.reference_points},
+    };
+  }
+  j["levels"] = levels;
+  double plan = 0, capture = 0, insert = 0, eval = 0;
+  for (const TrialStep& s : r.steps) {
+    plan += s.plan_ms;
+    capture += s.capture_ms;
+    insert += s.insert_ms;
+    eval += s.eval_ms;
+  }
+  j["totals"] = {{"views", r.steps.size()},        {"stopped_early", r.stopped_early},
+                 {"setup_ms", r.setup_ms},         {"plan_ms", plan},
+                 {"capture_ms", capture},          {"insert_ms", insert},
+                 {"eval_ms", eval},                {"total_ms", r.total_ms},
+                 {"occupied_voxels", r.steps.back().occupied_voxels}};
+  return j;
+}
+
+void renderSnapshot(const PlacedPlant& placed, const TrialConfig& c, const TrialResult& r,
+                    const CloudXYZ& occupied, const std::string& png)
+{
+  viz::SceneSnapshot::Config config;
+  config.width = 1200;
+  config.height = 1200;
+  config.title = placed.plant.name + ": " + plannerKindName(c.planner) + ", " +
+                 std::to_string(r.steps.size()) + " views";
+  viz::SceneSnapshot snapshot(config);
+  if (!placed.plant.mesh.empty())
+    snapshot.addMesh(placed.plant.mesh, viz::Rgb{0.67f, 0.67f, 0.67f}, 0.25);
+  else
+    snapshot.addPoints(placed.plant.scan_points, viz::Rgb{0.67f, 0.67f, 0.67f}, 1.0f);
+  std::vector<Eigen::Vector3f> points;
+  points.reserve(occupied.size());
+  for (const auto& p : occupied)
+    points.push_back(p.getVector3fMap());
+  snapshot.addPoints(points, viz::Rgb{0.12f, 0.55f, 0.24f}, 2.0f);
+  std::vector<Eigen::Vector3d> path;
+  for (const TrialStep& s : r.steps) {
+    path.push_back(s.view.position);
+    snapshot.addCameraFrustum(s.view, c.camera.horizontalFov(), c.camera.verticalFov(),
+                              0.08, viz::distinctColor(s.index), std::to_string(s.index));
+  }
+  snapshot.addPolyline(path, viz::Rgb{0.15f, 0.15f, 0.15f});
+  snapshot.render(png);
+}
+
+void runReconstruct(const ReconstructOptions& o)
+{
+  const PlacedPlant placed = makePlacedPlant(o.source);
+  const TrialConfig config = trialConfig(o, placed);
+  const Roi attention = attentionRoi(placed, o.attention);
+  const std::filesystem::path dir(o.output_dir);
+  std::error_code ec;
+  std::filesystem::create_directories(dir, ec);
+  if (ec)
+    throw IoError("cannot create output directory '" + o.output_dir + "': " + ec.message());
+
+  Trial trial(config);
+  trial.setPlant(std::make_shared<Plant>(placed.plant));
+  trial.setAttentionRoi(attention);
+  const std::vector<EvaluationLevel> levels = evaluationLevels(placed);
+  trial.setEvaluationLevels(levels);
+  std::cout << placed.plant.name << " (" << placed.description << "): "
+            << plannerKindName(config.planner)
+            << (config.planner == PlannerKind::predefined
+                    ? " pattern " + std::to_string(config.pattern)
+                    : config.planner == PlannerKind::nbv ? " attention " + o.attention
+                                                          : std::string())
+            << ", " << config.views << " views, "
+            << config.grid_rows * config.grid_cols * config.samples_per_cell
+            << " candidates, " << config.map.resolution_m * 1000.0 << " mm, seed "
+            << config.seed << "\n";
+  trial.setStepCallback([&](const TrialStep& s) {
+    std::ostringstream line;
+    line << std::fixed << std::setprecision(0) << "view " << std::setw(2) << s.index
+         << " at (" << std::setprecision(3) << s.view.position.x() << ", "
+         << s.view.position.y() << ", " << s.view.position.z() << ")";
+    if (s.index > 0)
+      line << std::setprecision(0) << " gain " << s.gain << " bits, plan "
+           << std::setprecision(1) << s.plan_ms << " ms";
+    line << std::setprecision(1) << ", capture " << s.capture_ms << " ms, insert "
+         << s.insert_ms << " ms, eval " << s.eval_ms << " ms |";
+    for (std::size_t l = 0; l < s.scores.size(); ++l)
+      line << " " << levels[l].name << " F1 " << std::setprecision(3)
+           << s.scores[l].f1;
+    std::cout << line.str() << std::endl;
+  });
+  TrialResult result;
+  trial.run(result);
+
+  writeSteps(dir / "steps.csv", result);
+  std::ofstream(dir / "summary.json")
+      << summaryJson(o, placed, config, trial, result).dump(2) << "\n";
+  trial.getMap().write((dir / "map.bt").string());
+  CloudXYZ occupied;
+  trial.getMap().getOccupiedVoxelCentres(occupied);
+  io::saveCloud((dir / "reconstruction.pcd").string(), occupied);
+  std::cout << std::fixed << std::setprecision(0) << "trial in " << result.total_ms
+            << " ms (setup " << result.setup_ms << " ms); wrote " << (dir / "steps.csv").string()
+            << ", summary.json, map.bt, reconstruction.pcd (" << occupied.size()
+            << " occupied voxels)";
+  if (o.snapshot) {
+    renderSnapshot(placed, config, result, occupied, (dir / "snapshot.png").string());
+    std::cout << ", snapshot.png";
+  }
+  std::cout << "\n";
+}
+
+} // namespace
+
+void addReconstructCommand(CLI::App& app)
+{
+  auto o = std::make_shared<ReconstructOptions>();
+  CLI::App* cmd = app.add_subcommand(
+      "reconstruct", "Run one reconstruction trial with a planner; write the steps, a "
+                     "summary, the map and the reconstruction");
+  addPlantSourceOptions(*cmd, o->source, "--plant");
+  cmd->add_option("--config", o->config_file,
+                  "Trial config (YAML, e.g. data/paper.yaml); options below override it");
+  cmd->add_option("--planner", o->planner, "nbv, predefined or random (default nbv)");
+  cmd->add_option("--pattern", o->pattern, "Pattern of the predefined planner, 1-4");
+  cmd->add_option("--attention", o->attention,
+                  "ROI of the NBV planner: whole-plant, main-stem, leaf-nodes, fruit or "
+                  "a ROI file")
+      ->capture_default_str();
+  cmd->add_option("--views", o->views, "View budget, v0 included (default 10)");
+  cmd->add_option("--candidates", o->candidates,
+                  "Candidates per step: 9, 27 (default) or 45 (1, 3, 5 per grid cell)");
+  cmd->add_option("--resolution", o->resolution, "Map voxel size in metres (0.003)");
+  cmd->add_option("--sector-height", o->sector_height,
+                  "Height of the cylindrical sector in metres (0.7; a loaded model: "
+                  "its height)");
+  cmd->add_option("--seed", o->seed, "Seed of the trial (default 0)");
+  cmd->add_option("--threads", o->threads, "Threads (default: all cores)");
+  cmd->add_option("-o,--output", o->output_dir, "Output directory")->required();
+  cmd->add_flag("--snapshot", o->snapshot,
+                "Also render DIR/snapshot.png: plant faded, occupied voxels, camera path");
+  cmd->callback([o]() { runReconstruct(*o); });
+}
+
+} // namespace app
+} // namespace plantnbv

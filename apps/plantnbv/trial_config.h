@@ -1,0 +1,29 @@
+#pragma once
+// A trial's configuration from a YAML file (data/paper.yaml is the paper's Table 1).
+
+#include <string>
+
+#include <plantnbv/experiment/trial.h>
+
+namespace plantnbv {
+namespace app {
+
+/// Overwrites the fields of `config` that the YAML file at `path` sets. Keys (all
+/// optional; metres, degrees where the key says _deg):
+///   camera: l515 | l515-640 | l515-320 | WxH:fx,fy,cx,cy
+///   noise: bool
+///   views: int
+///   planner: nbv | predefined | random        pattern: 1-4
+///   stop_gain_bits: number                    seed: int
+///   initial_view: {position: [x, y, z], orientation: [qx, qy, qz, qw]}
+///   sector: {radius, height, bottom, angle_deg, rows, cols, samples_per_cell}
+///   map: {resolution, prob_hit, prob_miss, clamp_min, clamp_max,
+///         occupancy_threshold, max_range}
+///   gain: {rays_x, rays_y, raycast_range, visibility_weighted}
+///   scene: {floor: bool, support: bool}
+/// \throws IoError if the file cannot be read; FormatError naming the key for an unknown
+/// key or a value of the wrong type; InvalidArgumentError for an out-of-range value.
+void loadTrialConfig(const std::string& path, TrialConfig& config);
+
+} // namespace app
+} // namespace plantnbv

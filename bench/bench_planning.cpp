@@ -1,0 +1,283 @@
+/// \file bench_planning.cpp
+/// \brief One NBV planning step's information gain: ours (plantnbv::InformationGain, a
+/// bricked snapshot of the map, rays culled and clipped to the ROI) side by side with the
+/// straightforward octree walk (plantnbv::referenceInformationGain: OctoMap's
+/// computeRayKeys, a tree search per voxel, a hash set of keys), at 1 and 2 threads.
+///
+/// Data: the oldest default tomato plant (defaultPlantConfig(9), about 245k triangles)
+/// posed at the paper's (1.0, 0, 0.8) in the default scene (floor and support), seen by
+/// the simulated L515 at 640 x 480 from the paper's v0 and then from candidates 13, 6,
+/// 20, 0 and 26 of the sampler's draw with seed 1, into a 3 mm OccupancyMap with the
+/// paper's parameters: maps after 1, 3 and 6 views. Candidates: the 27 of the paper's
+/// cylindrical sector (3 x 3 cells, 3 each) drawn with seed 42. ROIs: whole plant, main
+/// stem, leaf nodes (plant_rois.h). Gain: the default GainConfig.
+///
+/// gain/ours/...: one iteration = InformationGain::update() (the snapshot of the
+/// changed map) + compute() of the 27 candidates, the planning step's gain cost; counters
+/// update_ms and gain_ms split it. gain/reference/...: the 27 reference gains (OpenMP over
+/// candidates). Counters of both: best_gain (bits) and best (index) of the arg max;
+/// for ours, max_rel_diff (largest relative difference to the reference over the 27),
+/// voxels_differ (candidates whose voxels_seen differs) and same_choice (1 if the arg
+/// max is the reference's).
+///
+/// ray_count/...: the study behind GainConfig's default ray grid. For each map and ROI,
+/// the 27 gains with ray grids from 16 x 12 to 256 x 192; counters: best (the chosen
+/// candidate), same_choice_as_finest (1 if it is the 256 x 192 grid's choice),
+/// gain_rel_diff (mean over the 27 of |G - G_finest| / G_finest after scaling G by the ray
+/// count ratio, i.e. per-ray gain), rank_of_finest_choice (rank, 0 = best, of the finest
+/// grid's choice under this grid), best_gain_ratio (the finest grid's gain of this grid's
+/// choice over that of its own choice: 1 = as good), step_ms (one step at this grid,
+/// 2 threads).
+///
+/// Run (machine quiet: no compiler running):
+///   bench_planning --benchmark_repetitions=5 --benchmark_report_aggregates_only=true
+/// and only the study: --benchmark_filter=ray_count (one repetition is enough: its
+/// counters are deterministic).
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <benchmark/benchmark.h>
+#include <omp.h>
+#include <pcl/point_cloud.h>
+#include <pcl/point_types.h>
+
+#include <plantnbv/octree/occupancy_map.h>
+#include <plantnbv/planning/cylindrical_sector_sampler.h>
+#include <plantnbv/planning/information_gain.h>
+#include <plantnbv/plant/plant_rois.h>
+#include <plantnbv/plant/tomato_plant_generator.h>
+#include <plantnbv/sensor/simulated_depth_sensor.h>
+
+namespace {
+
+using namespace plantnbv;
+
+const Pose kV0 = Pose::fromXyzQuat(0.646, 0.353, 1.383, 0.0, 0.0, -0.383, 0.924);
+
+const Plant& benchPlant()
+{
+  static const Plant plant = [] {
+    Plant p = TomatoPlantGenerator(defaultPlantConfig(9)).generate();
+    posePlant(p, Eigen::Vector3d(1.0, 0.0, 0.8), 0.0);
+    return p;
+  }();
+  return plant;
+}
+
+/// The map after `views` views (1, 3 or 6), built once.
+std::shared_ptr<const OccupancyMap> benchMap(int views)
+{
+  static std::map<int, std::shared_ptr<OccupancyMap>> cache;
+  auto& map = cache[views];
+  if (map)
+    return map;
+  static SimulatedDepthSensor sensor = [] {
+    SimulatedDepthSensor s(CameraIntrinsics::l515(L515Mode::vga_640x480));
+    s.setScene(makePlantScene(benchPlant()));
+    return s;
+  }();
+  std::vector<Viewpoint> drawn;
+  Rng rng(1);
+  CylindricalSectorSampler().sample(rng, drawn);
+  const Viewpoint poses[6] = {kV0, drawn[13], drawn[6], drawn[20], drawn[0], drawn[26]};
+  map = std::make_shared<OccupancyMap>();
+  CloudXYZL cloud;
+  for (int v = 0; v < views; ++v) {
+    sensor.capture(poses[v], cloud);
+    map->insert(cloud, poses[v].position);
+  }
+  return map;
+}
+
+const std::vector<Viewpoint>& candidates()
+{
+  static const std::vector<Viewpoint> views = [] {
+    std::vector<Viewpoint> out;
+    Rng rng(42);
+    CylindricalSectorSampler().sample(rng, out);
+    return out;
+  }();
+  return views;
+}
+
+Roi benchRoi(PlantRoiKind kind)
+{
+  return plantRoi(benchPlant(), kind);
+}
+
+/// The reference gains (27 candidates), cached per map and ROI.
+const std::vector<ViewGain>& referenceGains(int views, PlantRoiKind kind,
+                                            const GainConfig& config = GainConfig())
+{
+  static std::map<std::tuple<int, int, int, int>, std::vector<ViewGain>> cache;
+  auto& out = cache[{views, static_cast<int>(kind), config.rays_x, config.rays_y}];
+  if (out.empty()) {
+    const auto map = benchMap(views);
+    const Roi roi = benchRoi(kind);
+    out.resize(candidates().size());
+#pragma omp parallel for schedule(dynamic, 1)
+    for (std::size_t i = 0; i < out.size(); ++i)
+      out[i] = referenceInformationGain(*map, roi, config, candidates()[i]);
+  }
+  return out;
+}
+
+std::size_t argMax(const std::vector<ViewGain>& gains)
+{
+  std::size_t best = 0;
+  for (std::size_t i = 1; i < gains.size(); ++i)
+    if (gains[i].gain > gains[best].gain)
+      best = i;
+  return best;
+}
+
+void benchOurs(benchmark::State& state, int views, PlantRoiKind kind, int threads)
+{
+  const auto map = benchMap(views);
+  InformationGain gain;
+  gain.setInputMap(map);
+  gain.setRoi(benchRoi(kind));
+  gain.setNumberOfThreads(threads);
+  std::vector<ViewGain> out;
+  double update_ms = 0.0, gain_ms = 0.0;
+  for (auto _ : state) {
+    gain.update();
+    gain.compute(candidates(), out);
+    update_ms += gain.getLastStats().update_ms;
+    gain_ms += gain.getLastStats().gain_ms;
+  }
+  const auto n = static_cast<double>(state.iterations());
+  state.counters["update_ms"] = update_ms / n;
+  state.counters["gain_ms"] = gain_ms / n;
+  state.counters["threads"] = threads;
+  const std::vector<ViewGain>& ref = referenceGains(views, kind);
+  double max_rel = 0.0;
+  std::size_t voxels_differ = 0;
+  for (std::size_t i = 0; i < out.size(); ++i) {
+    const double d = std::abs(out[i].gain - ref[i].gain);
+    max_rel = std::max(max_rel, ref[i].gain > 0.0 ? d / ref[i].gain : d);
+    voxels_differ += out[i].voxels_seen != ref[i].voxels_seen ? 1 : 0;
+  }
+  state.counters["best"] = static_cast<double>(argMax(out));
+  state.counters["best_gain"] = out[argMax(out)].gain;
+  state.counters["max_rel_diff"] = max_rel;
+  state.counters["voxels_differ"] = static_cast<double>(voxels_differ);
+  state.counters["same_choice"] = argMax(out) == argMax(ref) ? 1 : 0;
+  state.counters["bricks"] = static_cast<double>(gain.getLastStats().bricks);
+  state.counters["rays_cast"] = static_cast<double>(gain.getLastStats().rays_cast);
+}
+
+void benchReference(benchmark::State& state, int views, PlantRoiKind kind, int threads)
+{
+  const auto map = benchMap(views);
+  const Roi roi = benchRoi(kind);
+  const GainConfig config;
+  std::vector<ViewGain> out(candidates().size());
+  for (auto _ : state) {
+#pragma omp parallel for num_threads(threads) schedule(dynamic, 1)
+    for (std::size_t i = 0; i < out.size(); ++i)
+      out[i] = referenceInformationGain(*map, roi, config, candidates()[i]);
+  }
+  state.counters["threads"] = threads;
+  state.counters["best"] = static_cast<double>(argMax(out));
+  state.counters["best_gain"] = out[argMax(out)].gain;
+}
+
+/// The ray-count study: our gains (equal to the reference's, see gain/) at one grid
+/// against the finest grid's.
+void benchRayCount(benchmark::State& state, int views, PlantRoiKind kind, int rays_x)
+{
+  const auto map = benchMap(views);
+  const int rays_y = rays_x * 3 / 4;
+  InformationGain gain;
+  gain.setInputMap(map);
+  gain.setRoi(benchRoi(kind));
+  gain.setNumberOfThreads(2);
+  GainConfig finest_config;
+  finest_config.rays_x = 256;
+  finest_config.rays_y = 192;
+  std::vector<ViewGain> finest;
+  gain.setConfig(finest_config);
+  gain.compute(candidates(), finest);
+  GainConfig config;
+  config.rays_x = rays_x;
+  config.rays_y = rays_y;
+  gain.setConfig(config);
+  std::vector<ViewGain> out;
+  double step_ms = 0.0;
+  for (auto _ : state) {
+    gain.update();
+    gain.compute(candidates(), out);
+    step_ms += gain.getLastStats().update_ms + gain.getLastStats().gain_ms;
+  }
+  const std::size_t best = argMax(out), best_finest = argMax(finest);
+  const double scale = (256.0 * 192.0) / (static_cast<double>(rays_x) * rays_y);
+  double rel = 0.0;
+  std::size_t counted = 0;
+  for (std::size_t i = 0; i < out.size(); ++i)
+    if (finest[i].gain > 0.0) {
+      rel += std::abs(out[i].gain * scale - finest[i].gain) / finest[i].gain;
+      ++counted;
+    }
+  std::size_t rank = 0;
+  for (std::size_t i = 0; i < out.size(); ++i)
+    rank += out[i].gain > out[best_finest].gain ? 1 : 0;
+  state.counters["best"] = static_cast<double>(best);
+  state.counters["same_choice_as_finest"] = best == best_finest ? 1 : 0;
+  state.counters["gain_rel_diff"] = counted ? rel / counted : 0.0;
+  state.counters["rank_of_finest_choice"] = static_cast<double>(rank);
+  state.counters["best_gain_ratio"] =
+      finest[best_finest].gain > 0.0 ? finest[best].gain / finest[best_finest].gain : 1.0;
+  state.counters["step_ms"] = step_ms / static_cast<double>(state.iterations());
+}
+
+const char* roiName(PlantRoiKind kind)
+{
+  return plantRoiKindName(kind);
+}
+
+} // namespace
+
+int main(int argc, char** argv)
+{
+  benchmark::Initialize(&argc, argv);
+  if (benchmark::ReportUnrecognizedArguments(argc, argv))
+    return 1;
+  const PlantRoiKind kinds[] = {PlantRoiKind::whole_plant, PlantRoiKind::main_stem,
+                                PlantRoiKind::leaf_nodes};
+  for (const int views : {1, 3, 6})
+    for (const PlantRoiKind kind : kinds)
+      for (const int threads : {1, 2}) {
+        const std::string suffix = std::string("/") + roiName(kind) + "/views:" +
+                                   std::to_string(views) + "/threads:" +
+                                   std::to_string(threads);
+        benchmark::RegisterBenchmark(("gain/ours" + suffix).c_str(), benchOurs, views, kind,
+                                     threads)
+            ->Unit(benchmark::kMillisecond)
+            ->MinTime(0.5);
+        benchmark::RegisterBenchmark(("gain/reference" + suffix).c_str(), benchReference,
+                                     views, kind, threads)
+            ->Unit(benchmark::kMillisecond)
+            ->Iterations(2);
+      }
+  for (const int views : {1, 3, 6})
+    for (const PlantRoiKind kind : kinds)
+      for (const int rays_x : {16, 32, 48, 64, 96, 128, 160, 256}) {
+        const std::string name = std::string("ray_count/") + roiName(kind) + "/views:" +
+                                 std::to_string(views) + "/rays:" + std::to_string(rays_x) +
+                                 "x" + std::to_string(rays_x * 3 / 4);
+        benchmark::RegisterBenchmark(name.c_str(), benchRayCount, views, kind, rays_x)
+            ->Unit(benchmark::kMillisecond)
+            ->Iterations(3);
+      }
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}

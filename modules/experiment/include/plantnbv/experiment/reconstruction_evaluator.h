@@ -1,0 +1,100 @@
+#pragma once
+/// \file reconstruction_evaluator.h
+/// \brief Scores a reconstruction against a plant's ground truth at the evaluation
+/// levels of the paper (section 3.3): whole plant, main stem, leaf nodes (and fruits).
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <plantnbv/common/box.h>
+#include <plantnbv/common/pcl_fwd.h>
+#include <plantnbv/plant/plant.h>
+
+namespace plantnbv {
+
+/// \brief One evaluation level: a name (a column prefix in steps.csv, e.g. "leaf_nodes")
+/// and its ROI. With `average_boxes`, each box is scored on its own and the scores are
+/// averaged (the paper's leaf nodes: one score per node, averaged over the three);
+/// otherwise the union of the boxes is scored once.
+struct EvaluationLevel {
+  std::string name;
+  Roi roi;
+  bool average_boxes = false;
+};
+
+/// \brief The scores of one level. Precision, recall and F1 at rho = the resolution
+/// (strict <); Chamfer = the mean of the two mean nearest-neighbour distances (metres).
+/// With averaged boxes: P, R and F1 are the means over all boxes (a box without
+/// reconstruction scores 0), Chamfer the mean over the boxes where it is defined.
+/// Chamfer is NaN where no box has points on both sides.
+struct LevelScore {
+  double precision = 0.0;
+  double recall = 0.0;
+  double f1 = 0.0;
+  double chamfer = 0.0;
+  std::size_t reference_points = 0;      ///< ground-truth voxels in the level's boxes
+  std::size_t reconstruction_points = 0; ///< occupied voxels in the level's boxes
+};
+
+/// \brief Ground truth computed once per plant and pose, then scores for any number of
+/// reconstructions (DESIGN.md, "Metrics"):
+/// - ground truth: the plant's mesh sampled (groundTruthSampleCount points, seeded), or
+///   its scan points, reduced to the centres of the voxels they fall in, on OctoMap's
+///   lattice at the map's resolution (VoxelGridFilter with voxel centres), so that a
+///   perfectly observed voxel is at distance 0 from its ground truth;
+/// - reconstruction: the occupied voxel centres of the map (same lattice);
+/// - both cropped to each level's boxes (RoiCrop, closed boxes), then
+///   ReconstructionMetrics with rho = resolution.
+///
+/// \code
+/// ReconstructionEvaluator evaluator;
+/// evaluator.setResolution(0.003);
+/// evaluator.setGroundTruth(plant);
+/// evaluator.setLevels({{"whole_plant", wholePlantRoi(plant)}, ...});
+/// std::vector<LevelScore> scores;
+/// evaluator.compute(occupied_centres, scores);
+/// \endcode
+class ReconstructionEvaluator {
+public:
+  ReconstructionEvaluator();
+  ~ReconstructionEvaluator();
+  ReconstructionEvaluator(const ReconstructionEvaluator&) = delete;
+  ReconstructionEvaluator& operator=(const ReconstructionEvaluator&) = delete;
+
+  /// \brief Voxel size of ground truth and rho (metres, > 0). Default 0.003. Call before
+  /// setGroundTruth. \throws InvalidArgumentError otherwise.
+  void setResolution(double resolution_m);
+  double getResolution() const { return resolution_m_; }
+  /// \brief Seed of the surface sampling. Default 0.
+  void setSeed(std::uint64_t seed) { seed_ = seed; }
+  /// \brief Threads of the metrics (0: OpenMP's default). Results do not depend on it.
+  void setNumberOfThreads(int threads);
+
+  /// \brief Samples and voxelizes the plant (mesh, or scan points if it has no mesh).
+  /// \throws InvalidArgumentError if the plant has neither.
+  void setGroundTruth(const Plant& plant);
+  /// \brief The levels, in the order compute() reports them. Crops the ground truth
+  /// once per box. \throws InvalidArgumentError for an empty ROI or a repeated name, or
+  /// if setGroundTruth was not called.
+  void setLevels(const std::vector<EvaluationLevel>& levels);
+  const std::vector<EvaluationLevel>& getLevels() const { return levels_; }
+
+  /// \brief The ground-truth voxel centres (the whole plant, uncropped).
+  const CloudXYZ& getGroundTruth() const;
+
+  /// \brief Scores of `reconstruction` (world frame; non-finite points ignored) for each
+  /// level, in order.
+  void compute(const CloudXYZ& reconstruction, std::vector<LevelScore>& scores) const;
+
+private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+  std::vector<EvaluationLevel> levels_;
+  double resolution_m_ = 0.003;
+  std::uint64_t seed_ = 0;
+  int threads_ = 0;
+};
+
+} // namespace plantnbv

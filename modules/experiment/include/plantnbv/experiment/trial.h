@@ -1,0 +1,151 @@
+#pragma once
+/// \file trial.h
+/// \brief One reconstruction trial (the paper's Algorithm 1 with evaluation): capture at
+/// v0, then plan -> capture -> insert up to the view budget, scoring the map against
+/// ground truth after every view.
+
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <plantnbv/common/box.h>
+#include <plantnbv/common/pose.h>
+#include <plantnbv/experiment/reconstruction_evaluator.h>
+#include <plantnbv/octree/occupancy_map.h>
+#include <plantnbv/plant/plant.h>
+#include <plantnbv/planning/cylindrical_sector_sampler.h>
+#include <plantnbv/planning/information_gain.h>
+#include <plantnbv/sensor/camera_intrinsics.h>
+#include <plantnbv/sensor/noise_model.h>
+#include <plantnbv/sensor/sensor_scene.h>
+
+namespace plantnbv {
+
+/// \brief The planners of the paper (section 3.2).
+enum class PlannerKind {
+  nbv,        ///< AttentionNbvPlanner: arg max of the gain inside the attention ROI
+  predefined, ///< PredefinedPlanner: the 9 grid-cell centres in one of 4 patterns
+  random,     ///< RandomPlanner: one of the freshly sampled candidates
+};
+const char* plannerKindName(PlannerKind kind);
+/// \throws InvalidArgumentError naming the string and the accepted names.
+PlannerKind plannerKindFromName(const std::string& name);
+
+/// \brief The paper's base of the plant (Table 1); TrialConfig::initial_view is given
+/// for a plant standing there.
+inline Eigen::Vector3d paperPlantBase() { return {1.0, 0.0, 0.8}; }
+
+/// \brief Everything a trial needs besides the plant and the ROIs. Defaults: the paper's
+/// Table 1 (data/paper.yaml), the L515 at 640 x 480, noise off.
+struct TrialConfig {
+  CameraIntrinsics camera = CameraIntrinsics::l515(L515Mode::vga_640x480);
+  /// Off by default (the paper's sensor was noise-free); its seed is derived from `seed`.
+  NoiseConfig noise;
+  SceneConfig scene;       ///< floor and support by default
+  OccupancyMap::Config map;
+
+  PlannerKind planner = PlannerKind::nbv;
+  int pattern = 1; ///< predefined planner's pattern, 1-4
+  /// The cylindrical sector; its axis_base is replaced by the plant's base, so that the
+  /// sector moves with the plant.
+  CylindricalSector sector;
+  int grid_rows = 3;
+  int grid_cols = 3;
+  int samples_per_cell = 3; ///< 1, 3, 5 give the paper's 9, 27, 45 candidates
+  /// Ray grid and range of the gain; its fields of view are replaced by the camera's.
+  GainConfig gain;
+  /// AttentionNbvPlanner: stop when the best gain is below this (bits); 0 never stops.
+  double stop_gain_bits = 0.0;
+
+  /// v0 (Table 1) for a plant whose base is at paperPlantBase(); it is translated with
+  /// the plant's base, so that every planner starts from the same view of the plant.
+  Viewpoint initial_view = Pose::fromXyzQuat(0.646, 0.353, 1.383, 0.0, 0.0, -0.383, 0.924);
+  int views = 10;          ///< the view budget, v0 included
+  std::uint64_t seed = 0;  ///< the trial's seed (planner draws, noise, ground truth)
+  int threads = 0;         ///< 0: OpenMP's default; results do not depend on it
+
+  /// \throws InvalidArgumentError naming the first bad field and its value.
+  void validate() const;
+};
+
+/// \brief What happened at one view.
+struct TrialStep {
+  int index = 0;            ///< 0 = v0
+  Viewpoint view;
+  double gain = 0.0;        ///< the chosen view's gain (bits); NaN for v0
+  std::size_t candidates = 0;
+  double plan_ms = 0.0;     ///< 0 for v0
+  double capture_ms = 0.0;
+  double insert_ms = 0.0;
+  double eval_ms = 0.0;
+  std::size_t occupied_voxels = 0; ///< in the whole map after this view
+  std::vector<LevelScore> scores;  ///< per evaluation level, in the Trial's order
+};
+
+/// \brief The outcome of Trial::run.
+struct TrialResult {
+  std::vector<std::string> level_names;
+  std::vector<TrialStep> steps;
+  bool stopped_early = false; ///< the NBV planner's gain fell below stop_gain_bits
+  double setup_ms = 0.0;      ///< scene (BVH) and ground truth
+  double total_ms = 0.0;      ///< setup and all steps
+
+  /// \brief F1 after each view for level `level` (index into level_names).
+  std::vector<double> f1Curve(std::size_t level) const;
+};
+
+/// \brief One trial on one posed plant.
+///
+/// \code
+/// Trial trial(config);
+/// trial.setPlant(plant);                           // posed in the world frame
+/// trial.setAttentionRoi(leafNodeRoi(plant));       // what the NBV planner attends to
+/// trial.setEvaluationLevels(levels);
+/// TrialResult result;
+/// trial.run(result);
+/// \endcode
+/// The planner sees only the map, the attention ROI and the candidates; the plant is
+/// used for the sensor's scene and for ground truth (DESIGN.md). Deterministic: the same
+/// config, plant and seed give the same steps (apart from the timings) on any number of
+/// threads.
+class Trial {
+public:
+  explicit Trial(const TrialConfig& config = {});
+  ~Trial();
+
+  /// \throws InvalidArgumentError if the config is invalid.
+  void setConfig(const TrialConfig& config);
+  const TrialConfig& getConfig() const { return config_; }
+  void setPlant(std::shared_ptr<const Plant> plant);
+  /// \brief The attention ROI of the NBV planner (also used to report the gain of the
+  /// baselines' views). Empty: every voxel counts (plain volumetric NBV).
+  void setAttentionRoi(const Roi& roi) { attention_ = roi; }
+  void setEvaluationLevels(const std::vector<EvaluationLevel>& levels) { levels_ = levels; }
+  /// \brief Called after every view, e.g. to print progress.
+  void setStepCallback(std::function<void(const TrialStep&)> callback)
+  {
+    callback_ = std::move(callback);
+  }
+
+  /// \brief Runs the trial from an empty map. \throws InvalidArgumentError if no plant
+  /// was set; the modules' errors otherwise.
+  void run(TrialResult& result);
+
+  /// \brief The map after run() (empty before).
+  const OccupancyMap& getMap() const { return *map_; }
+  /// \brief The plant's sector (axis at the plant's base) used by the last run().
+  const CylindricalSector& getSector() const { return sector_; }
+
+private:
+  TrialConfig config_;
+  std::shared_ptr<const Plant> plant_;
+  Roi attention_;
+  std::vector<EvaluationLevel> levels_;
+  std::function<void(const TrialStep&)> callback_;
+  std::shared_ptr<OccupancyMap> map_;
+  CylindricalSector sector_;
+};
+
+} // namespace plantnbv

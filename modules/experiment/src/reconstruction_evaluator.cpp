@@ -1,0 +1,157 @@
+#include <plantnbv/experiment/reconstruction_evaluator.h>
+
+#include <cmath>
+#include <limits>
+#include <set>
+
+#include <pcl/point_cloud.h>
+#include <pcl/point_types.h>
+
+#include <plantnbv/common/error.h>
+#include <plantnbv/filters/roi_crop.h>
+#include <plantnbv/filters/voxel_grid_filter.h>
+#include <plantnbv/metrics/reconstruction_metrics.h>
+#include <plantnbv/sampling/mesh_sampler.h>
+
+namespace plantnbv {
+
+namespace {
+
+CloudXYZ::Ptr crop(const CloudXYZ::ConstPtr& cloud, const Roi& roi)
+{
+  RoiCrop<pcl::PointXYZ> filter;
+  filter.setRoi(roi);
+  filter.setInputCloud(cloud);
+  auto out = std::make_shared<CloudXYZ>();
+  filter.filter(*out);
+  return out;
+}
+
+} // namespace
+
+struct ReconstructionEvaluator::Impl {
+  CloudXYZ::Ptr ground_truth;
+  /// Per level, the ROIs scored separately (one per box, or the whole ROI) and the
+  /// ground truth cropped to each.
+  std::vector<std::vector<Roi>> parts;
+  std::vector<std::vector<CloudXYZ::ConstPtr>> reference;
+};
+
+ReconstructionEvaluator::ReconstructionEvaluator() : impl_(std::make_unique<Impl>()) {}
+ReconstructionEvaluator::~ReconstructionEvaluator() = default;
+
+void ReconstructionEvaluator::setResolution(double resolution_m)
+{
+  if (!(resolution_m > 0.0) || !std::isfinite(resolution_m))
+    throw InvalidArgumentError("evaluation resolution must be a finite size > 0 in "
+                               "metres, got " +
+                               std::to_string(resolution_m));
+  resolution_m_ = resolution_m;
+}
+
+void ReconstructionEvaluator::setNumberOfThreads(int threads)
+{
+  if (threads < 0)
+    throw InvalidArgumentError("thread count must be >= 0, got " +
+                               std::to_string(threads));
+  threads_ = threads;
+}
+
+void ReconstructionEvaluator::setGroundTruth(const Plant& plant)
+{
+  auto samples = std::make_shared<CloudXYZ>();
+  if (!plant.mesh.empty()) {
+    MeshSampler sampler;
+    sampler.setInputMesh(std::make_shared<TriangleMesh>(plant.mesh));
+    sampler.setNumberOfPoints(groundTruthSampleCount(sampler.getSurfaceArea(), resolution_m_));
+    sampler.setSeed(seed_);
+    sampler.sample(*samples);
+  } else if (!plant.scan_points.empty()) {
+    for (const Eigen::Vector3f& p : plant.scan_points)
+      samples->push_back(pcl::PointXYZ(p.x(), p.y(), p.z()));
+  } else {
+    throw InvalidArgumentError("plant '" + plant.name +
+                               "' has neither a mesh nor scan points: no ground truth");
+  }
+  VoxelGridFilter<pcl::PointXYZ> grid;
+  grid.setLeafSize(resolution_m_);
+  grid.setOutputVoxelCentres(true);
+  grid.setInputCloud(samples);
+  impl_->ground_truth = std::make_shared<CloudXYZ>();
+  grid.filter(*impl_->ground_truth);
+  if (!levels_.empty())
+    setLevels(std::vector<EvaluationLevel>(levels_)); // re-crop the new ground truth
+}
+
+void ReconstructionEvaluator::setLevels(const std::vector<EvaluationLevel>& levels)
+{
+  if (!impl_->ground_truth)
+    throw InvalidArgumentError("ReconstructionEvaluator: set the ground truth before the "
+                               "levels");
+  std::set<std::string> names;
+  for (const EvaluationLevel& level : levels) {
+    if (level.name.empty())
+      throw InvalidArgumentError("an evaluation level needs a name");
+    if (level.roi.empty())
+      throw InvalidArgumentError("evaluation level '" + level.name + "' has no ROI box");
+    if (!names.insert(level.name).second)
+      throw InvalidArgumentError("evaluation level '" + level.name + "' given twice");
+  }
+  impl_->parts.assign(levels.size(), {});
+  impl_->reference.assign(levels.size(), {});
+  for (std::size_t l = 0; l < levels.size(); ++l) {
+    if (levels[l].average_boxes)
+      for (const Box& box : levels[l].roi.boxes())
+        impl_->parts[l].push_back(Roi({box}));
+    else
+      impl_->parts[l].push_back(levels[l].roi);
+    for (const Roi& part : impl_->parts[l])
+      impl_->reference[l].push_back(crop(impl_->ground_truth, part));
+  }
+  levels_ = levels;
+}
+
+const CloudXYZ& ReconstructionEvaluator::getGroundTruth() const
+{
+  if (!impl_->ground_truth)
+    throw InvalidArgumentError("ReconstructionEvaluator: no ground truth set");
+  return *impl_->ground_truth;
+}
+
+void ReconstructionEvaluator::compute(const CloudXYZ& reconstruction,
+                                      std::vector<LevelScore>& scores) const
+{
+  // Copy once: the metrics and the crop take shared pointers.
+  const auto cloud = std::make_shared<const CloudXYZ>(reconstruction);
+  scores.assign(levels_.size(), LevelScore{});
+  ReconstructionMetrics metrics;
+  metrics.setThreshold(resolution_m_);
+  metrics.setNumberOfThreads(threads_);
+  for (std::size_t l = 0; l < levels_.size(); ++l) {
+    LevelScore& s = scores[l];
+    double chamfer_sum = 0.0;
+    std::size_t chamfer_count = 0;
+    const std::size_t parts = impl_->parts[l].size();
+    for (std::size_t p = 0; p < parts; ++p) {
+      metrics.setReference(impl_->reference[l][p]);
+      metrics.setReconstruction(crop(cloud, impl_->parts[l][p]));
+      const MetricsResult m = metrics.compute();
+      s.precision += m.precision;
+      s.recall += m.recall;
+      s.f1 += m.f1;
+      s.reference_points += m.reference_points;
+      s.reconstruction_points += m.reconstruction_points;
+      if (m.valid && std::isfinite(m.chamfer)) {
+        chamfer_sum += m.chamfer;
+        ++chamfer_count;
+      }
+    }
+    s.precision /= double(parts);
+    s.recall /= double(parts);
+    s.f1 /= double(parts);
+    s.chamfer = chamfer_count ? chamfer_sum / double(chamfer_count)
+                              : std::numeric_limits<double>::quiet_NaN();
+  }
+}
+
+} // namespace plantnbv

@@ -1,0 +1,224 @@
+#include <plantnbv/experiment/trial.h>
+
+#include <chrono>
+#include <cmath>
+#include <limits>
+
+#include <pcl/point_cloud.h>
+#include <pcl/point_types.h>
+
+#include <plantnbv/common/error.h>
+#include <plantnbv/common/random.h>
+#include <plantnbv/planning/view_planner.h>
+#include <plantnbv/sensor/simulated_depth_sensor.h>
+
+namespace plantnbv {
+
+namespace {
+
+constexpr const char* kPlannerNames[] = {"nbv", "predefined", "random"};
+
+class Stopwatch {
+public:
+  double ms() const
+  {
+    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() -
+                                                     start_)
+        .count();
+  }
+
+private:
+  std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
+};
+
+// Independent streams of the trial's seed for its random parts.
+enum SeedStream : std::uint64_t { kPlannerStream = 1, kNoiseStream = 2, kTruthStream = 3 };
+
+std::unique_ptr<ViewPlanner> makePlanner(const TrialConfig& c)
+{
+  switch (c.planner) {
+  case PlannerKind::nbv: {
+    auto planner = std::make_unique<AttentionNbvPlanner>();
+    planner->setStopGain(c.stop_gain_bits);
+    return planner;
+  }
+  case PlannerKind::predefined: {
+    auto planner = std::make_unique<PredefinedPlanner>();
+    planner->setPattern(c.pattern);
+    return planner;
+  }
+  case PlannerKind::random:
+    return std::make_unique<RandomPlanner>();
+  }
+  throw InvalidArgumentError("unknown planner kind");
+}
+
+} // namespace
+
+const char* plannerKindName(PlannerKind kind)
+{
+  return kPlannerNames[static_cast<int>(kind)];
+}
+
+PlannerKind plannerKindFromName(const std::string& name)
+{
+  for (int i = 0; i < 3; ++i)
+    if (name == kPlannerNames[i])
+      return static_cast<PlannerKind>(i);
+  throw InvalidArgumentError("unknown planner '" + name +
+                             "' (expected nbv, predefined or random)");
+}
+
+void TrialConfig::validate() const
+{
+  camera.validate();
+  noise.validate();
+  scene.validate();
+  map.validate();
+  gain.validate();
+  auto bad = [](const std::string& field, const std::string& value,
+                const std::string& expected) {
+    throw InvalidArgumentError("trial config: " + field + " = " + value + ", expected " +
+                               expected);
+  };
+  if (pattern < 1 || pattern > 4)
+    bad("pattern", std::to_string(pattern), "1, 2, 3 or 4");
+  if (grid_rows < 1 || grid_cols < 1)
+    bad("grid", std::to_string(grid_rows) + " x " + std::to_string(grid_cols),
+        "at least 1 x 1");
+  if (samples_per_cell < 1)
+    bad("samples_per_cell", std::to_string(samples_per_cell), ">= 1");
+  if (planner == PlannerKind::predefined && (grid_rows != 3 || grid_cols != 3))
+    bad("grid", std::to_string(grid_rows) + " x " + std::to_string(grid_cols),
+        "3 x 3 for the predefined planner (its patterns are defined on 9 cells)");
+  if (!(stop_gain_bits >= 0.0) || !std::isfinite(stop_gain_bits))
+    bad("stop_gain_bits", std::to_string(stop_gain_bits), "a finite value >= 0");
+  if (views < 1 || views > 1000)
+    bad("views", std::to_string(views), "1 to 1000");
+  if (threads < 0)
+    bad("threads", std::to_string(threads), ">= 0");
+  CylindricalSector s = sector;
+  s.axis_base = paperPlantBase(); // replaced by the plant's base; the rest must hold
+  s.validate();
+}
+
+std::vector<double> TrialResult::f1Curve(std::size_t level) const
+{
+  std::vector<double> curve;
+  for (const TrialStep& step : steps)
+    curve.push_back(level < step.scores.size() ? step.scores[level].f1
+                                               : std::numeric_limits<double>::quiet_NaN());
+  return curve;
+}
+
+Trial::Trial(const TrialConfig& config) : map_(std::make_shared<OccupancyMap>())
+{
+  setConfig(config);
+}
+
+Trial::~Trial() = default;
+
+void Trial::setConfig(const TrialConfig& config)
+{
+  config.validate();
+  config_ = config;
+}
+
+void Trial::setPlant(std::shared_ptr<const Plant> plant)
+{
+  plant_ = std::move(plant);
+}
+
+void Trial::run(TrialResult& result)
+{
+  if (!plant_)
+    throw InvalidArgumentError("Trial: no plant set");
+  const TrialConfig& c = config_;
+  Stopwatch total_clock;
+  result = TrialResult{};
+  for (const EvaluationLevel& level : levels_)
+    result.level_names.push_back(level.name);
+
+  // Everything that depends only on the plant and its pose: scene, ground truth, sector.
+  Stopwatch setup_clock;
+  SimulatedDepthSensor sensor(c.camera);
+  sensor.setNumberOfThreads(static_cast<unsigned int>(c.threads));
+  if (c.noise.enabled) {
+    NoiseConfig noise = c.noise;
+    noise.seed = deriveSeed(c.seed, kNoiseStream);
+    sensor.setNoise(noise);
+  }
+  sensor.setScene(makePlantScene(*plant_, c.scene, static_cast<unsigned int>(c.threads)));
+  ReconstructionEvaluator evaluator;
+  evaluator.setResolution(c.map.resolution_m);
+  evaluator.setSeed(deriveSeed(c.seed, kTruthStream));
+  evaluator.setNumberOfThreads(c.threads);
+  evaluator.setGroundTruth(*plant_);
+  evaluator.setLevels(levels_);
+  sector_ = c.sector;
+  sector_.axis_base = plant_->base_position;
+  auto sampler = std::make_shared<CylindricalSectorSampler>(sector_);
+  sampler->setGrid(c.grid_rows, c.grid_cols);
+  sampler->setSamplesPerCell(c.samples_per_cell);
+  result.setup_ms = setup_clock.ms();
+
+  map_ = std::make_shared<OccupancyMap>(c.map);
+  map_->setNumberOfThreads(c.threads);
+  std::unique_ptr<ViewPlanner> planner = makePlanner(c);
+  planner->setInputMap(map_);
+  planner->setCandidateSampler(sampler);
+  planner->setRoi(attention_);
+  GainConfig gain = c.gain; // the candidates' frusta are the camera's
+  gain.horizontal_fov_rad = c.camera.horizontalFov();
+  gain.vertical_fov_rad = c.camera.verticalFov();
+  planner->setGainConfig(gain);
+  planner->setSeed(deriveSeed(c.seed, kPlannerStream));
+  planner->setNumberOfThreads(c.threads);
+
+  Viewpoint view(c.initial_view.position + (plant_->base_position - paperPlantBase()),
+                 c.initial_view.orientation);
+  CloudXYZL frame;
+  CloudXYZ occupied;
+  for (int index = 0; index < c.views; ++index) {
+    TrialStep step;
+    step.index = index;
+    step.gain = std::numeric_limits<double>::quiet_NaN();
+    if (index > 0) {
+      Stopwatch plan_clock;
+      planner->setCurrentView(view);
+      NextViewResult next;
+      planner->compute(next);
+      step.plan_ms = plan_clock.ms();
+      if (next.stop) {
+        result.stopped_early = true;
+        break;
+      }
+      view = next.view;
+      step.gain = next.gain;
+      step.candidates = next.candidates.size();
+    }
+    step.view = view;
+
+    Stopwatch capture_clock;
+    sensor.setFrameIndex(static_cast<std::uint64_t>(index));
+    sensor.capture(view, frame);
+    step.capture_ms = capture_clock.ms();
+
+    Stopwatch insert_clock;
+    map_->insert(frame, view.position);
+    step.insert_ms = insert_clock.ms();
+
+    Stopwatch eval_clock;
+    map_->getOccupiedVoxelCentres(occupied);
+    step.occupied_voxels = occupied.size();
+    evaluator.compute(occupied, step.scores);
+    step.eval_ms = eval_clock.ms();
+
+    result.steps.push_back(step);
+    if (callback_)
+      callback_(result.steps.back());
+  }
+  result.total_ms = total_clock.ms();
+}
+
+} // namespace plantnbv

@@ -1,0 +1,32 @@
+#pragma once
+/// \file viewpoint_sampler.h
+/// \brief The interface of candidate-view samplers (the paper's Stage II, section 2.2).
+
+#include <memory>
+#include <vector>
+
+#include <plantnbv/common/pose.h>
+#include <plantnbv/common/random.h>
+
+namespace plantnbv {
+
+/// \brief Draws candidate viewpoints (camera body frame: x forward, y left, z up,
+/// DESIGN.md).
+///
+/// A sampler is a value-like description of where the camera may go; the randomness
+/// comes from the caller's Rng, so a planner that owns the Rng makes its draws
+/// reproducible from its seed. `sample` is const: a sampler may be shared.
+class ViewpointSampler {
+public:
+  using Ptr = std::shared_ptr<ViewpointSampler>;
+  using ConstPtr = std::shared_ptr<const ViewpointSampler>;
+
+  virtual ~ViewpointSampler() = default;
+
+  /// \brief Appends nothing, fills `out` (cleared first) with freshly drawn candidates.
+  /// \param[in,out] rng the source of randomness (advanced by the draws).
+  /// \param[out] out the candidates, in the sampler's documented order.
+  virtual void sample(Rng& rng, std::vector<Viewpoint>& out) const = 0;
+};
+
+} // namespace plantnbv
