@@ -315,6 +315,17 @@ void runReconstruct(const ReconstructOptions& o)
   CloudXYZ occupied;
   trial.getMap().getOccupiedVoxelCentres(occupied);
   io::saveCloud((dir / "reconstruction.pcd").string(), occupied);
+  std::cout << "views to reach F1 0.8 / 0.9:";
+  for (std::size_t l = 0; l < result.level_names.size(); ++l) {
+    const std::vector<double> f1 = result.f1Curve(l);
+    auto views = [&](double tau) {
+      const int v = viewsToReach(f1, tau);
+      return v < 0 ? std::string("-") : std::to_string(v);
+    };
+    std::cout << (l ? ", " : " ") << result.level_names[l] << " " << views(0.8) << " / "
+              << views(0.9);
+  }
+  std::cout << " (- = not within " << result.steps.size() << " views)\n";
   std::cout << std::fixed << std::setprecision(0) << "trial in " << result.total_ms
             << " ms (setup " << result.setup_ms << " ms); wrote " << (dir / "steps.csv").string()
             << ", summary.json, map.bt, reconstruction.pcd (" << occupied.size()

@@ -457,7 +457,9 @@ TEST_F(CliTest, ReconstructWritesStepsSummaryMapAndReconstruction)
   const ToolRun r = run("reconstruct --plant 0 --planner nbv --attention leaf-nodes --views 3 "
                         "--config " + path("small.yaml") + " -o " + path("t"));
   ASSERT_EQ(r.code, 0) << r.err;
-  EXPECT_EQ(std::count(r.out.begin(), r.out.end(), '\n'), 5) << r.out; // title, 3 views, end
+  // A title, one line per view, views to reach F1 0.8 / 0.9, what was written.
+  EXPECT_EQ(std::count(r.out.begin(), r.out.end(), '\n'), 6) << r.out;
+  EXPECT_NE(r.out.find("views to reach F1 0.8 / 0.9: whole_plant "), std::string::npos);
   EXPECT_NE(r.out.find("view  2"), std::string::npos) << r.out;
 
   const auto rows = readCsv(slurp(path("t/steps.csv")));

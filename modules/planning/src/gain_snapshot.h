@@ -1,0 +1,162 @@
+#pragma once
+// The map snapshot of the fast information gain (internal to the planning module): the
+// voxels that can matter, in bricks of 8^3, each voxel a small code.
+
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include <plantnbv/common/box.h>
+#include <plantnbv/octree/ray_traversal.h>
+
+namespace octomap {
+class OcTree;
+class OcTreeNode;
+} // namespace octomap
+
+namespace plantnbv {
+namespace gain_detail {
+
+constexpr int kBrickShift = 3; ///< bricks of 8^3 voxels (octree nodes at depth 13)
+constexpr int kBrickMask = (1 << kBrickShift) - 1;
+constexpr int kBrickVoxels = 1 << (3 * kBrickShift);
+constexpr std::uint32_t kUniform = 0x80000000u; ///< table entry: one code for the brick
+constexpr int kKeyLimit = 2 * ray_traversal::kTreeMaxVal; ///< keys lie in [0, 65536)
+
+/// Voxel codes: bit 0 = the voxel centre lies in the ROI (always set without ROI),
+/// bit 1 = occupied, bits 2.. = the index of its value (0 = unknown).
+constexpr unsigned kInRoi = 1u;
+constexpr unsigned kOccupied = 2u;
+constexpr int kValueShift = 2;
+
+inline int brickLocal(int kx, int ky, int kz)
+{
+  return ((kz & kBrickMask) << (2 * kBrickShift)) | ((ky & kBrickMask) << kBrickShift) |
+         (kx & kBrickMask);
+}
+
+/// An inclusive box of keys; empty when lo > hi on an axis.
+struct KeyBox {
+  int lo[3] = {0, 0, 0};
+  int hi[3] = {-1, -1, -1};
+
+  bool empty() const { return lo[0] > hi[0] || lo[1] > hi[1] || lo[2] > hi[2]; }
+  bool contains(int kx, int ky, int kz) const
+  {
+    return kx >= lo[0] && kx <= hi[0] && ky >= lo[1] && ky <= hi[1] && kz >= lo[2] &&
+           kz <= hi[2];
+  }
+  /// Overlaps the cube of side `size` from key `k`.
+  bool overlapsCube(const int k[3], int size) const
+  {
+    for (int a = 0; a < 3; ++a)
+      if (k[a] + size - 1 < lo[a] || k[a] > hi[a])
+        return false;
+    return true;
+  }
+  void extend(const KeyBox& b);
+};
+
+/// The keys whose voxel centre `box` contains: exactly Box::contains on OctoMap's
+/// keyToCoord centres (per axis |centre - c| <= size / 2, the same operations), which
+/// per axis is an interval.
+KeyBox roiKeyBox(const Box& box, double resolution);
+
+/// What a value index stands for.
+struct Value {
+  float log_odds = 0.0f;  ///< the map's (0 for unknown)
+  double entropy = 1.0;   ///< bits (occupancyEntropy of OctoMap's getOccupancy())
+  double free_prob = 0.5; ///< 1 - occupancy probability
+  bool occupied = false;  ///< log-odds > the map's threshold (OcTree::isNodeOccupied)
+};
+
+/// The brick table and the bricks' voxels for one code width.
+template <typename CodeT>
+struct Bricks {
+  int b0[3] = {0, 0, 0}; ///< brick coordinates (key >> 3) of the table's first slot
+  int nb[3] = {0, 0, 0};
+  /// Per brick: kUniform | code, or the brick's index in `voxels` (512 codes each).
+  std::vector<std::uint32_t> table;
+  std::vector<CodeT> voxels;
+  CodeT outside = 0; ///< the code of voxels outside the table
+
+  std::size_t slot(int rx, int ry, int rz) const
+  {
+    return (static_cast<std::size_t>(rz) * static_cast<std::size_t>(nb[1]) +
+            static_cast<std::size_t>(ry)) *
+               static_cast<std::size_t>(nb[0]) +
+           static_cast<std::size_t>(rx);
+  }
+  /// The slot of the brick holding key k, false outside the table.
+  bool slotOf(int kx, int ky, int kz, std::size_t& s) const
+  {
+    const unsigned rx = static_cast<unsigned>((kx >> kBrickShift) - b0[0]);
+    const unsigned ry = static_cast<unsigned>((ky >> kBrickShift) - b0[1]);
+    const unsigned rz = static_cast<unsigned>((kz >> kBrickShift) - b0[2]);
+    if (rx >= static_cast<unsigned>(nb[0]) || ry >= static_cast<unsigned>(nb[1]) ||
+        rz >= static_cast<unsigned>(nb[2]))
+      return false;
+    s = slot(static_cast<int>(rx), static_cast<int>(ry), static_cast<int>(rz));
+    return true;
+  }
+  CodeT code(int kx, int ky, int kz) const
+  {
+    std::size_t s;
+    if (!slotOf(kx, ky, kz, s))
+      return outside;
+    const std::uint32_t e = table[s];
+    if (e & kUniform)
+      return static_cast<CodeT>(e & ~kUniform);
+    return voxels[(static_cast<std::size_t>(e) << (3 * kBrickShift)) +
+                  static_cast<std::size_t>(brickLocal(kx, ky, kz))];
+  }
+  /// The brick at slot s as voxels (allocated and filled with its uniform code first).
+  CodeT* materialize(std::size_t s);
+  void clear();
+};
+
+/// The snapshot: what the gain needs of the map, for one ROI and mode.
+class Snapshot {
+public:
+  /// Rebuilds from the tree. `full`: every known voxel (no ROI, or visibility
+  /// weighting); otherwise the voxels in the ROI's key box and the occupied ones.
+  void build(const octomap::OcTree& tree, const Roi& roi, bool full);
+
+  const octomap::OcTree* tree = nullptr;
+  double resolution = 0.0;
+  double resolution_factor = 0.0;
+  bool roi_mode = false; ///< a non-empty ROI
+  bool full = false;
+  int code_bytes = 1;    ///< 1, 2 or 4: which of the Bricks below is in use
+  std::vector<KeyBox> roi_boxes; ///< keys inside each ROI box (some may be empty)
+  KeyBox roi_bbox;               ///< their union's bounding box
+  std::vector<Box> clip_boxes;   ///< the ROI boxes grown by one voxel
+  std::vector<Value> values;     ///< by value index; 0 = unknown
+  Bricks<std::uint8_t> bricks8;
+  Bricks<std::uint16_t> bricks16;
+  Bricks<std::uint32_t> bricks32;
+  std::size_t leaf_count = 0;
+  std::size_t brick_count = 0;
+  bool built = false;
+
+private:
+  struct Leaf {
+    int k[3];
+    int shift; ///< the cube has 2^shift voxels per side
+    std::uint32_t value;
+  };
+  void collect(const octomap::OcTreeNode* node, int depth, const int k[3]);
+  std::uint32_t valueIndex(float log_odds);
+  template <typename CodeT>
+  void fill(Bricks<CodeT>& bricks, const KeyBox& region);
+
+  float threshold_ = 0.0f;
+  std::vector<Leaf> leaves_;
+  std::vector<float> distinct_;          ///< log-odds per provisional index
+  std::vector<std::uint32_t> hash_keys_; ///< open addressing: float bits + 1 (0 = empty)
+  std::vector<std::uint32_t> hash_values_;
+  std::vector<std::uint32_t> remap_; ///< provisional index -> sorted value index
+};
+
+} // namespace gain_detail
+} // namespace plantnbv
