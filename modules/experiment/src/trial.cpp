@@ -1,6 +1,5 @@
 #include <plantnbv/experiment/trial.h>
 
-#include <chrono>
 #include <cmath>
 #include <limits>
 
@@ -9,6 +8,7 @@
 
 #include <plantnbv/common/error.h>
 #include <plantnbv/common/random.h>
+#include <plantnbv/common/stopwatch.h>
 #include <plantnbv/planning/view_planner.h>
 #include <plantnbv/sensor/simulated_depth_sensor.h>
 
@@ -17,19 +17,6 @@ namespace plantnbv {
 namespace {
 
 constexpr const char* kPlannerNames[] = {"nbv", "predefined", "random"};
-
-class Stopwatch {
-public:
-  double ms() const
-  {
-    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() -
-                                                     start_)
-        .count();
-  }
-
-private:
-  std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
-};
 
 // Independent streams of the trial's seed for its random parts.
 enum SeedStream : std::uint64_t { kPlannerStream = 1, kNoiseStream = 2, kTruthStream = 3 };
