@@ -548,3 +548,17 @@ TEST_F(CliTest, ReconstructBadArgumentsAreOneLineErrors)
                      "none.yaml");
   expectOneLineError(run("reconstruct --plant 1"), 2, "--output");
 }
+
+TEST_F(CliTest, ReconstructSnapshotShowsTheTrial)
+{
+  write("small.yaml", kSmallTrial);
+  const ToolRun r = run("reconstruct --plant 0 --views 2 --config " + path("small.yaml") +
+                        " -o " + path("s") + " --snapshot");
+  ASSERT_EQ(r.code, 0) << r.err;
+  const std::string png = slurp(path("s/snapshot.png"));
+  ASSERT_GT(png.size(), 24u);
+  EXPECT_EQ(png.substr(1, 3), "PNG");
+  EXPECT_EQ(std::uint8_t(png[18]) * 256 + std::uint8_t(png[19]), 1200); // width
+  EXPECT_EQ(std::uint8_t(png[22]) * 256 + std::uint8_t(png[23]), 1200); // height
+  EXPECT_GT(png.size(), 50000u); // not blank
+}
