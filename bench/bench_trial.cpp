@@ -1,0 +1,88 @@
+/// \file bench_trial.cpp
+/// \brief The whole time of one 10-view trial (plantnbv::Trial): setup (sensor scene,
+/// ground truth), then per view plan + capture + insert + evaluate, at 1 and 2 threads.
+///
+/// Data: default tomato plants 3 and 9 (defaultPlantConfig) posed at the paper's
+/// (1.0, 0, 0.8), yaw 0, in the default scene (floor and support); the paper's Table 1
+/// (TrialConfig defaults: L515 at 640 x 480, 3 mm map, 27 candidates, 10 views from v0);
+/// evaluation at whole plant, main stem, leaf nodes and fruits. Planners: NBV with
+/// attention on the whole plant and on the leaf nodes, and random. One iteration = one
+/// Trial::run (plant generation not included); counters give the sums over the 10 views
+/// of each phase (plan_ms, capture_ms, insert_ms, eval_ms), setup_ms, and the final
+/// leaf-node F1. Run (machine quiet):
+///   bench_trial --benchmark_repetitions=3 --benchmark_report_aggregates_only=true
+
+#include <memory>
+#include <string>
+
+#include <benchmark/benchmark.h>
+
+#include <plantnbv/experiment/trial.h>
+#include <plantnbv/plant/plant_rois.h>
+#include <plantnbv/plant/tomato_plant_generator.h>
+
+namespace {
+
+using namespace plantnbv;
+
+std::shared_ptr<const Plant> defaultPlant(int seed)
+{
+  auto plant =
+      std::make_shared<Plant>(TomatoPlantGenerator(defaultPlantConfig(seed)).generate());
+  posePlant(*plant, paperPlantBase(), 0.0);
+  return plant;
+}
+
+/// planner: 0 = NBV whole plant, 1 = NBV leaf nodes, 2 = random.
+void BM_Trial(benchmark::State& state)
+{
+  const int seed = int(state.range(0));
+  const int planner = int(state.range(1));
+  const int threads = int(state.range(2));
+  static std::shared_ptr<const Plant> plants[10];
+  if (!plants[seed])
+    plants[seed] = defaultPlant(seed);
+  const Plant& plant = *plants[seed];
+
+  TrialConfig config;
+  config.planner = planner == 2 ? PlannerKind::random : PlannerKind::nbv;
+  config.threads = threads;
+  config.seed = 1;
+  Trial trial(config);
+  trial.setPlant(plants[seed]);
+  trial.setAttentionRoi(planner == 1 ? leafNodeRoi(plant) : wholePlantRoi(plant));
+  trial.setEvaluationLevels({{"whole_plant", wholePlantRoi(plant)},
+                             {"main_stem", mainStemRoi(plant)},
+                             {"leaf_nodes", leafNodeRoi(plant), true},
+                             {"fruit", fruitRoi(plant), true}});
+  TrialResult result;
+  for (auto _ : state) {
+    trial.run(result);
+    state.SetIterationTime(result.total_ms / 1000.0);
+  }
+  double plan = 0, capture = 0, insert = 0, eval = 0;
+  for (const TrialStep& s : result.steps) {
+    plan += s.plan_ms;
+    capture += s.capture_ms;
+    insert += s.insert_ms;
+    eval += s.eval_ms;
+  }
+  state.counters["setup_ms"] = result.setup_ms;
+  state.counters["plan_ms"] = plan;
+  state.counters["capture_ms"] = capture;
+  state.counters["insert_ms"] = insert;
+  state.counters["eval_ms"] = eval;
+  state.counters["views"] = double(result.steps.size());
+  state.counters["leaf_nodes_f1"] = result.steps.back().scores[2].f1;
+}
+
+BENCHMARK(BM_Trial)
+    ->ArgsProduct({{3, 9}, {0, 1, 2}, {1, 2}})
+    ->ArgNames({"plant", "planner", "threads"})
+    ->UseManualTime()
+    ->Unit(benchmark::kMillisecond)
+    ->Iterations(1);
+
+} // namespace
+
+BENCHMARK_MAIN();
