@@ -16,7 +16,7 @@ struct GeometryInputOptions {
 };
 
 /// \brief Reads `path` as points: a cloud as it is with non-finite points dropped, a mesh
-/// sampled (seeded) then voxelized at the resolution (centroid per voxel, the ground
+/// sampled (seeded) then voxelized at the resolution (voxel centres, the ground
 /// truth of DESIGN.md), an octree's occupied voxel centres. `what` names the input in
 /// messages ("reference"); `summary` receives a one-line description of what was done.
 /// An octree without occupied voxels gives an empty cloud (an empty reconstruction).
