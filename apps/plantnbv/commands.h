@@ -16,6 +16,7 @@ void addEvalCommand(CLI::App& app);
 void addPlantCommand(CLI::App& app);
 void addCaptureCommand(CLI::App& app);
 void addReconstructCommand(CLI::App& app);
+void addCampaignCommand(CLI::App& app);
 
 } // namespace app
 } // namespace plantnbv

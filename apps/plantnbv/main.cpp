@@ -23,6 +23,7 @@ int main(int argc, char** argv)
   plantnbv::app::addPlantCommand(app);
   plantnbv::app::addCaptureCommand(app);
   plantnbv::app::addReconstructCommand(app);
+  plantnbv::app::addCampaignCommand(app);
 
   // Rendering needs X: without a display, run again under xvfb-run (when installed;
   // otherwise the renderer reports the missing display as a one-line error).

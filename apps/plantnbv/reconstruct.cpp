@@ -27,6 +27,7 @@
 #include "commands.h"
 #include "plant_source.h"
 #include "trial_config.h"
+#include "trial_setup.h"
 
 namespace plantnbv {
 namespace app {
@@ -48,57 +49,6 @@ struct ReconstructOptions {
   std::string output_dir;
   bool snapshot = false;
 };
-
-/// The plant's ROI of an evaluation level, if it has one. Level names are the CSV's.
-struct LevelSource {
-  const char* level;      ///< column prefix in steps.csv
-  const char* roi;        ///< name in PlacedPlant::rois
-  const char* attention;  ///< --attention value
-  bool average_boxes;
-};
-constexpr LevelSource kLevels[] = {
-    {"whole_plant", "whole_plant", "whole-plant", false},
-    {"main_stem", "main_stem", "main-stem", false},
-    {"leaf_nodes", "leaf_nodes", "leaf-nodes", true},
-    {"fruit", "fruits", "fruit", true},
-};
-
-const Roi* findRoi(const PlacedPlant& placed, const std::string& name)
-{
-  for (const auto& [roi_name, roi] : placed.rois)
-    if (roi_name == name)
-      return &roi;
-  return nullptr;
-}
-
-Roi attentionRoi(const PlacedPlant& placed, const std::string& attention)
-{
-  for (const LevelSource& l : kLevels)
-    if (attention == l.attention) {
-      const Roi* roi = findRoi(placed, l.roi);
-      if (!roi)
-        throw InvalidArgumentError("--attention " + attention + ": the plant has no " +
-                                   l.level + " ROI (a loaded model has whole-plant and "
-                                   "the boxes of --rois; give a ROI file instead)");
-      return *roi;
-    }
-  if (std::filesystem::path(attention).has_extension())
-    return io::loadRoi(attention);
-  throw InvalidArgumentError("--attention '" + attention +
-                             "': expected whole-plant, main-stem, leaf-nodes, fruit or "
-                             "a ROI file (.yaml)");
-}
-
-std::vector<EvaluationLevel> evaluationLevels(const PlacedPlant& placed)
-{
-  std::vector<EvaluationLevel> levels;
-  for (const LevelSource& l : kLevels)
-    if (const Roi* roi = findRoi(placed, l.roi))
-      levels.push_back({l.level, *roi, l.average_boxes});
-  if (const Roi* roi = findRoi(placed, "model_rois"))
-    levels.push_back({"model_rois", *roi, true});
-  return levels;
-}
 
 TrialConfig trialConfig(const ReconstructOptions& o, const PlacedPlant& placed)
 {

@@ -5,6 +5,10 @@
 
 #include <plantnbv/experiment/trial.h>
 
+namespace YAML {
+class Node;
+}
+
 namespace plantnbv {
 namespace app {
 
@@ -24,6 +28,13 @@ namespace app {
 /// \throws IoError if the file cannot be read; FormatError naming the key for an unknown
 /// key or a value of the wrong type; InvalidArgumentError for an out-of-range value.
 void loadTrialConfig(const std::string& path, TrialConfig& config);
+
+/// The keys of loadTrialConfig from a YAML map already loaded, e.g. the `trial:` section
+/// of a campaign file: `path` names the file and `prefix` the map's key path in messages
+/// (e.g. "trial."). Does not validate the result (the caller does, after its own
+/// overrides). \throws FormatError naming the key as loadTrialConfig does.
+void readTrialConfig(const YAML::Node& node, const std::string& path,
+                     const std::string& prefix, TrialConfig& config);
 
 } // namespace app
 } // namespace plantnbv

@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <map>
 #include <sstream>
 #include <string>
 #include <sys/wait.h>
@@ -561,4 +562,211 @@ TEST_F(CliTest, ReconstructSnapshotShowsTheTrial)
   EXPECT_EQ(std::uint8_t(png[18]) * 256 + std::uint8_t(png[19]), 1200); // width
   EXPECT_EQ(std::uint8_t(png[22]) * 256 + std::uint8_t(png[23]), 1200); // height
   EXPECT_GT(png.size(), 50000u); // not blank
+}
+
+namespace {
+
+/// A tiny campaign: one generated plant, three yaws, NBV, two pre-defined patterns and
+/// random, 3 views, the small camera and ray grid of kSmallTrial: 12 trials.
+std::string tinyCampaign(const std::string& extra_plants = "")
+{
+  return "name: tiny\n"
+         "seed: 11\n"
+         "plants:\n"
+         "  - seed: 0\n" +
+         extra_plants +
+         "yaws_deg: [0, 120, 240]\n"
+         "views: 3\n"
+         "levels: [whole_plant, leaf_nodes]\n"
+         "trial:\n"
+         "  camera: 160x120:114.25,114.25,79.5,59.5\n"
+         "  gain: {rays_x: 32, rays_y: 24}\n"
+         "studies:\n"
+         "  - name: main\n"
+         "    planners:\n"
+         "      - {type: nbv, attention: leaf-nodes}\n"
+         "      - {type: predefined, patterns: [1, 2]}\n"
+         "      - {type: random}\n";
+}
+
+/// The result files of a campaign directory (not the temporary files), by name.
+std::map<std::string, nlohmann::json> trialFiles(const fs::path& dir)
+{
+  std::map<std::string, nlohmann::json> files;
+  for (const auto& entry : fs::directory_iterator(dir / "trials")) {
+    const std::string name = entry.path().filename().string();
+    if (name[0] != '.')
+      files[name] = nlohmann::json::parse(slurp(entry.path()));
+  }
+  return files;
+}
+
+/// Drops the timing keys (ending in _ms) everywhere.
+nlohmann::json withoutTimings(nlohmann::json j)
+{
+  if (j.is_object()) {
+    nlohmann::json out = nlohmann::json::object();
+    for (auto it = j.begin(); it != j.end(); ++it) {
+      const std::string& key = it.key();
+      if (key.size() < 3 || key.compare(key.size() - 3, 3, "_ms") != 0)
+        out[key] = withoutTimings(it.value());
+    }
+    return out;
+  }
+  if (j.is_array())
+    for (auto& e : j)
+      e = withoutTimings(e);
+  return j;
+}
+
+} // namespace
+
+TEST_F(CliTest, CampaignBadFilesAreOneLineErrorsNamingTheKeyPath)
+{
+  const std::string out = " -o " + path("c");
+  auto bad = [&](const std::string& name, const std::string& text, const std::string& needle) {
+    write(name, text);
+    expectOneLineError(run("campaign run " + path(name) + out), 1, needle);
+  };
+  const std::string base = tinyCampaign();
+  bad("unknown.yaml", base + "    candidats: [9]\n", "studies[0].candidats: unknown key");
+  bad("type.yaml", "views: ten\n" + base.substr(base.find("plants")),
+      "views: 'ten' is not an integer");
+  bad("zero.yaml", base + "    candidates: [9, 10]\n",
+      "studies[0].candidates[1]: 10 is not a multiple of the 9 grid cells");
+  bad("roi.yaml",
+      base.substr(0, base.find("      - {type: nbv")) +
+          "      - {type: nbv, attention: stems}\n",
+      "'" + path("roi.yaml") + "' studies[0].planners[0].attention: unknown ROI 'stems'");
+  bad("pattern.yaml",
+      base.substr(0, base.find("      - {type: nbv")) +
+          "      - {type: predefined, patterns: [1, 5]}\n",
+      "studies[0].planners[0].patterns[1]: 5 is not a pattern 1-4");
+  bad("trialviews.yaml", "trial: {views: 3}\n" + base.substr(base.find("name:")),
+      "trial.views: set by the campaign");
+  bad("trialunknown.yaml",
+      base.substr(0, base.find("  gain:")) + "  gain: {rays: 32}\n" +
+          base.substr(base.find("studies:")),
+      "trial.gain.rays: unknown key");
+  bad("noviews.yaml", base.substr(0, base.find("views: 3")) + "views: 0\n" +
+                          base.substr(base.find("levels:")),
+      "views: 0, expected >= 1");
+  bad("level.yaml", base.substr(0, base.find("levels:")) + "levels: [leaves]\n" +
+                        base.substr(base.find("trial:")),
+      "levels[0]: unknown level 'leaves'");
+  expectOneLineError(run("campaign run " + path("none.yaml") + out), 1, "none.yaml");
+  expectOneLineError(run("campaign status " + path("nowhere")), 1, "nowhere");
+  expectOneLineError(run("campaign run " + path("unknown.yaml")), 2, "--output");
+}
+
+TEST_F(CliTest, CampaignKilledRunResumesWithEveryTrialDoneOnce)
+{
+  write("tiny.yaml", tinyCampaign());
+  // Reference: an uninterrupted run on two workers.
+  const ToolRun ref = run("campaign run " + path("tiny.yaml") + " -o " + path("ref") + " -j 2");
+  ASSERT_EQ(ref.code, 0) << ref.err;
+  EXPECT_NE(ref.out.find("12 of 12 trials done"), std::string::npos) << ref.out;
+  // Not a terminal: one plain line per finished trial.
+  EXPECT_NE(ref.out.find("[12/12] "), std::string::npos) << ref.out;
+
+  // Start on one worker, kill -9 after the first result file appears.
+  const std::string cmd = kTool + " campaign run " + path("tiny.yaml") + " -o " + path("run") +
+                          " -j 1 >" + path("first.out") + " 2>&1 </dev/null & echo $! >" +
+                          path("pid");
+  ASSERT_EQ(std::system(cmd.c_str()), 0);
+  const fs::path trials = dir_ / "run" / "trials";
+  bool seen = false;
+  for (int i = 0; i < 6000 && !seen; ++i) { // up to 60 s
+    std::error_code ec;
+    for (const auto& entry : fs::directory_iterator(trials, ec))
+      seen = seen || entry.path().filename().string()[0] != '.';
+    if (!seen)
+      std::system("sleep 0.01");
+  }
+  ASSERT_TRUE(seen) << slurp(path("first.out"));
+  std::string pid = slurp(path("pid"));
+  pid.erase(pid.find_last_not_of(" \n") + 1);
+  ASSERT_FALSE(pid.empty());
+  // Wait until it is gone (or a zombie nobody reaps), at most 10 s.
+  std::system(("kill -9 " + pid + " 2>/dev/null; i=0; while [ $i -lt 1000 ] && [ -d /proc/" +
+               pid + " ] && ! grep -q ') Z' /proc/" + pid + "/stat 2>/dev/null; do sleep 0.01; " +
+               "i=$((i+1)); done")
+                  .c_str());
+  const std::size_t after_kill = trialFiles(dir_ / "run").size();
+  EXPECT_GE(after_kill, 1u);
+
+  const ToolRun resumed = run("campaign run " + path("tiny.yaml") + " -o " + path("run") + " -j 2");
+  ASSERT_EQ(resumed.code, 0) << resumed.err;
+  EXPECT_NE(resumed.out.find(std::to_string(after_kill) + " already done"), std::string::npos)
+      << resumed.out;
+  const ToolRun status = run("campaign status " + path("run"));
+  ASSERT_EQ(status.code, 0) << status.err;
+  EXPECT_NE(status.out.find("12 trials, 12 done, 0 failed, 0 missing"), std::string::npos)
+      << status.out;
+
+  // Every trial once, and the same results as the uninterrupted run apart from timings.
+  const auto a = trialFiles(dir_ / "ref");
+  const auto b = trialFiles(dir_ / "run");
+  ASSERT_EQ(a.size(), 12u);
+  ASSERT_EQ(b.size(), 12u);
+  for (const auto& [name, j] : a) {
+    ASSERT_EQ(b.count(name), 1u) << name;
+    EXPECT_EQ(j["status"], "done") << name;
+    EXPECT_EQ(withoutTimings(j), withoutTimings(b.at(name))) << name;
+  }
+  // Byte for byte apart from the timing lines.
+  auto dropTimings = [](const std::string& text) {
+    std::istringstream lines(text);
+    std::string line, out;
+    while (std::getline(lines, line))
+      if (line.find("_ms\"") == std::string::npos)
+        out += line + "\n";
+    return out;
+  };
+  for (const auto& entry : fs::directory_iterator(dir_ / "ref" / "trials"))
+    EXPECT_EQ(dropTimings(slurp(entry.path())),
+              dropTimings(slurp(dir_ / "run" / "trials" / entry.path().filename())));
+
+  // The report of the resumed run: one curve row per planner, level and view.
+  const ToolRun report = run("campaign report " + path("run") + " -o " + path("report"));
+  ASSERT_EQ(report.code, 0) << report.err;
+  const auto rows = readCsv(slurp(path("report/curves.csv")));
+  ASSERT_EQ(rows.size(), 1u + 3u * 2u * 3u);
+  EXPECT_EQ(rows[0][5], "f1_mean");
+  const std::string summary = slurp(path("report/summary.md"));
+  EXPECT_NE(summary.find("12 trials done, 0 failed"), std::string::npos) << summary;
+  EXPECT_NE(summary.find("| nbv-leaf-nodes | predefined |"), std::string::npos) << summary;
+}
+
+TEST_F(CliTest, CampaignTrialThatThrowsIsRecordedAndTheOthersFinish)
+{
+  // A model plant whose file disappears before the run.
+  fs::copy_file(kFixtures + "/plant_cm_zup.dae", path("gone.dae"));
+  write("fail.yaml", tinyCampaign("  - {model: gone.dae}\n"));
+  fs::remove(path("gone.dae"));
+  const ToolRun r = run("campaign run " + path("fail.yaml") + " -o " + path("c") + " -j 2");
+  expectOneLineError(r, 1, "12 of 24 trials failed");
+  EXPECT_NE(r.out.find("12 of 24 trials done, 12 failed"), std::string::npos) << r.out;
+  const auto files = trialFiles(dir_ / "c");
+  ASSERT_EQ(files.size(), 24u);
+  int failed = 0;
+  for (const auto& [name, j] : files)
+    if (name.find("+gone+") != std::string::npos) {
+      EXPECT_EQ(j["status"], "failed") << name;
+      EXPECT_NE(j["error"].get<std::string>().find("gone.dae"), std::string::npos) << j;
+      ++failed;
+    } else {
+      EXPECT_EQ(j["status"], "done") << name;
+    }
+  EXPECT_EQ(failed, 12);
+  const ToolRun status = run("campaign status " + path("c"));
+  ASSERT_EQ(status.code, 0) << status.err;
+  EXPECT_NE(status.out.find("24 trials, 12 done, 12 failed, 0 missing"), std::string::npos)
+      << status.out;
+  EXPECT_NE(status.out.find("failed: main/nbv-leaf-nodes/gone/yaw000/rep0: "), std::string::npos)
+      << status.out;
+  // Another definition in the same directory is refused.
+  write("other.yaml", tinyCampaign() + "    candidates: [9]\n");
+  expectOneLineError(run("campaign run " + path("other.yaml") + " -o " + path("c")), 1,
+                     "another campaign");
 }

@@ -66,6 +66,25 @@ CodeT* Bricks<CodeT>::materialize(std::size_t s)
 }
 
 template <typename CodeT>
+void Bricks<CodeT>::shareUniformBricks()
+{
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> shared; // code -> brick, few
+  auto brickOf = [&](std::uint32_t code) {
+    for (const auto& cb : shared)
+      if (cb.first == code)
+        return cb.second;
+    const auto index = static_cast<std::uint32_t>(voxels.size() >> (3 * kBrickShift));
+    voxels.resize(voxels.size() + kBrickVoxels, static_cast<CodeT>(code));
+    shared.push_back({code, index});
+    return index;
+  };
+  outside_brick = brickOf(outside);
+  for (std::uint32_t& e : table)
+    if (e & kUniform)
+      e = kUniform | brickOf(e & ~kUniform);
+}
+
+template <typename CodeT>
 void Bricks<CodeT>::clear()
 {
   table.clear();
@@ -83,14 +102,18 @@ std::uint32_t Snapshot::valueIndex(float log_odds)
   std::uint32_t bits;
   std::memcpy(&bits, &log_odds, sizeof bits);
   const std::uint32_t key = bits + 1u; // 0 marks an empty slot (NaN bits never occur)
+  if (key == last_key_) // neighbouring leaves often share their value
+    return last_value_;
+  last_key_ = key;
   std::size_t mask = hash_keys_.size() - 1;
   std::size_t i = (key * 0x9e3779b1u) & mask;
   while (hash_keys_[i] != 0) {
     if (hash_keys_[i] == key)
-      return hash_values_[i];
+      return last_value_ = hash_values_[i];
     i = (i + 1) & mask;
   }
   const auto index = static_cast<std::uint32_t>(distinct_.size());
+  last_value_ = index;
   distinct_.push_back(log_odds);
   hash_keys_[i] = key;
   hash_values_[i] = index;
@@ -248,6 +271,7 @@ void Snapshot::fill(Bricks<CodeT>& bricks, const KeyBox& region)
         }
   }
   brick_count = bricks.voxels.size() >> (3 * kBrickShift);
+  bricks.shareUniformBricks();
 }
 
 void Snapshot::build(const octomap::OcTree& octree, const Roi& roi, bool full_map)
@@ -265,12 +289,17 @@ void Snapshot::build(const octomap::OcTree& octree, const Roi& roi, bool full_ma
   for (const Box& b : roi.boxes()) {
     roi_boxes.push_back(roiKeyBox(b, resolution));
     roi_bbox.extend(roi_boxes.back());
-    const Eigen::Vector3d grow = Eigen::Vector3d::Constant(resolution);
-    clip_boxes.push_back(Box::fromMinMax(b.min() - grow, b.max() + grow));
+    ClipBox c;
+    for (int a = 0; a < 3; ++a) {
+      c.lo[a] = b.min()[a] - resolution;
+      c.hi[a] = b.max()[a] + resolution;
+    }
+    clip_boxes.push_back(c);
   }
 
   leaves_.clear();
   distinct_.clear();
+  last_key_ = 0;
   hash_keys_.assign(64, 0);
   hash_values_.assign(64, 0);
   if (const octomap::OcTreeNode* root = tree->getRoot()) {
@@ -300,19 +329,28 @@ void Snapshot::build(const octomap::OcTree& octree, const Roi& roi, bool full_ma
 
   // The region: the ROI's keys, every stored occupied leaf, and the other stored leaves
   // where they matter (within the ROI's keys unless every voxel is needed).
-  KeyBox region = roi_bbox;
-  for (const Leaf& leaf : leaves_) {
-    KeyBox b;
-    const bool occupied = values[remap_[leaf.value]].occupied;
+  int lo[3] = {kKeyLimit, kKeyLimit, kKeyLimit}, hi[3] = {-1, -1, -1};
+  if (!roi_bbox.empty())
     for (int a = 0; a < 3; ++a) {
-      b.lo[a] = leaf.k[a];
-      b.hi[a] = leaf.k[a] + (1 << leaf.shift) - 1;
-      if (!full && !occupied) {
-        b.lo[a] = std::max(b.lo[a], roi_bbox.lo[a]);
-        b.hi[a] = std::min(b.hi[a], roi_bbox.hi[a]);
-      }
+      lo[a] = roi_bbox.lo[a];
+      hi[a] = roi_bbox.hi[a];
     }
-    region.extend(b);
+  for (const Leaf& leaf : leaves_) {
+    const bool clip = !full && !values[remap_[leaf.value]].occupied;
+    for (int a = 0; a < 3; ++a) {
+      int l = leaf.k[a], h = leaf.k[a] + (1 << leaf.shift) - 1;
+      if (clip) {
+        l = std::max(l, roi_bbox.lo[a]);
+        h = std::min(h, roi_bbox.hi[a]);
+      }
+      lo[a] = std::min(lo[a], l);
+      hi[a] = std::max(hi[a], h);
+    }
+  }
+  KeyBox region;
+  for (int a = 0; a < 3; ++a) {
+    region.lo[a] = lo[a];
+    region.hi[a] = hi[a];
   }
   if (region.empty()) // nothing known and no ROI voxel: one brick
     for (int a = 0; a < 3; ++a)

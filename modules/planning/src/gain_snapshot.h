@@ -62,6 +62,12 @@ struct KeyBox {
 /// per axis is an interval.
 KeyBox roiKeyBox(const Box& box, double resolution);
 
+/// An axis-aligned box as its corners (metres), for segment clipping.
+struct ClipBox {
+  double lo[3];
+  double hi[3];
+};
+
 /// What a value index stands for.
 struct Value {
   float log_odds = 0.0f;  ///< the map's (0 for unknown)
@@ -75,10 +81,13 @@ template <typename CodeT>
 struct Bricks {
   int b0[3] = {0, 0, 0}; ///< brick coordinates (key >> 3) of the table's first slot
   int nb[3] = {0, 0, 0};
-  /// Per brick: kUniform | code, or the brick's index in `voxels` (512 codes each).
+  /// Per brick its index in `voxels` (512 codes each), with kUniform set when all its
+  /// voxels have one code: such bricks share one copy per code. (While fill() runs, a
+  /// uniform entry holds the code itself: kUniform | code.)
   std::vector<std::uint32_t> table;
   std::vector<CodeT> voxels;
-  CodeT outside = 0; ///< the code of voxels outside the table
+  CodeT outside = 0;               ///< the code of voxels outside the table
+  std::uint32_t outside_brick = 0; ///< a brick of `outside` codes
 
   std::size_t slot(int rx, int ry, int rz) const
   {
@@ -99,19 +108,22 @@ struct Bricks {
     s = slot(static_cast<int>(rx), static_cast<int>(ry), static_cast<int>(rz));
     return true;
   }
+  /// The codes of the brick of a table entry.
+  const CodeT* brick(std::uint32_t entry) const
+  {
+    return &voxels[static_cast<std::size_t>(entry & ~kUniform) << (3 * kBrickShift)];
+  }
   CodeT code(int kx, int ky, int kz) const
   {
     std::size_t s;
     if (!slotOf(kx, ky, kz, s))
       return outside;
-    const std::uint32_t e = table[s];
-    if (e & kUniform)
-      return static_cast<CodeT>(e & ~kUniform);
-    return voxels[(static_cast<std::size_t>(e) << (3 * kBrickShift)) +
-                  static_cast<std::size_t>(brickLocal(kx, ky, kz))];
+    return brick(table[s])[brickLocal(kx, ky, kz)];
   }
-  /// The brick at slot s as voxels (allocated and filled with its uniform code first).
+  /// fill(): the brick at slot s as voxels (allocated, filled with its uniform code).
   CodeT* materialize(std::size_t s);
+  /// After fill(): uniform entries point to one shared brick per code.
+  void shareUniformBricks();
   void clear();
 };
 
@@ -130,7 +142,7 @@ public:
   int code_bytes = 1;    ///< 1, 2 or 4: which of the Bricks below is in use
   std::vector<KeyBox> roi_boxes; ///< keys inside each ROI box (some may be empty)
   KeyBox roi_bbox;               ///< their union's bounding box
-  std::vector<Box> clip_boxes;   ///< the ROI boxes grown by one voxel
+  std::vector<ClipBox> clip_boxes; ///< the ROI boxes grown by one voxel
   std::vector<Value> values;     ///< by value index; 0 = unknown
   Bricks<std::uint8_t> bricks8;
   Bricks<std::uint16_t> bricks16;
@@ -156,6 +168,8 @@ private:
   std::vector<std::uint32_t> hash_keys_; ///< open addressing: float bits + 1 (0 = empty)
   std::vector<std::uint32_t> hash_values_;
   std::vector<std::uint32_t> remap_; ///< provisional index -> sorted value index
+  std::uint32_t last_key_ = 0;       ///< valueIndex's last lookup (0: none)
+  std::uint32_t last_value_ = 0;
 };
 
 } // namespace gain_detail

@@ -1,5 +1,6 @@
-// The fast information gain: a bricked snapshot of the map, OctoMap's exact ray
-// traversal (plantnbv/octree/ray_traversal.h), rays culled and clipped to the ROI.
+// The fast information gain: a bricked snapshot of the map (gain_snapshot.h), OctoMap's
+// exact ray traversal (plantnbv/octree/ray_traversal.h), rays culled and clipped to the
+// ROI, and jumps over bricks that hold nothing that counts or stops a ray.
 // Compiled with -ffp-contract=off (CMakeLists.txt): the traversal must round like
 // OctoMap's.
 
@@ -21,10 +22,12 @@
 #include <plantnbv/planning/information_gain.h>
 
 #include "gain_rays.h"
+#include "gain_snapshot.h"
 
 namespace plantnbv {
 
 namespace rt = ray_traversal;
+using namespace gain_detail;
 
 namespace {
 
@@ -35,142 +38,9 @@ double msSince(Clock::time_point start)
   return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
 }
 
-constexpr int kBrickShift = 3; ///< bricks of 8^3 voxels (an octree node at depth 13)
-constexpr int kBrickMask = (1 << kBrickShift) - 1;
-constexpr int kBrickVoxels = 1 << (3 * kBrickShift);
-constexpr std::uint32_t kUniform = 0x80000000u; ///< table entry: one code for the brick
-constexpr int kKeyLimit = 2 * rt::kTreeMaxVal;  ///< keys lie in [0, 65536)
-
-inline int brickLocal(int kx, int ky, int kz)
-{
-  return ((kz & kBrickMask) << (2 * kBrickShift)) | ((ky & kBrickMask) << kBrickShift) |
-         (kx & kBrickMask);
-}
-
-/// An inclusive box of keys; empty when lo > hi on an axis.
-struct KeyBox {
-  int lo[3] = {0, 0, 0};
-  int hi[3] = {-1, -1, -1};
-
-  bool empty() const { return lo[0] > hi[0] || lo[1] > hi[1] || lo[2] > hi[2]; }
-  bool contains(int kx, int ky, int kz) const
-  {
-    return kx >= lo[0] && kx <= hi[0] && ky >= lo[1] && ky <= hi[1] && kz >= lo[2] &&
-           kz <= hi[2];
-  }
-  /// Overlaps the cube of side `size` from key `k`.
-  bool overlapsCube(const int k[3], int size) const
-  {
-    for (int a = 0; a < 3; ++a)
-      if (k[a] + size - 1 < lo[a] || k[a] > hi[a])
-        return false;
-    return true;
-  }
-  void extend(const KeyBox& b)
-  {
-    if (b.empty())
-      return;
-    if (empty()) {
-      *this = b;
-      return;
-    }
-    for (int a = 0; a < 3; ++a) {
-      lo[a] = std::min(lo[a], b.lo[a]);
-      hi[a] = std::max(hi[a], b.hi[a]);
-    }
-  }
-};
-
-/// The keys whose voxel centre the box contains, per axis an interval: exactly
-/// Box::contains on keyToCoord centres (|centre - c| <= size / 2, the same operations).
-KeyBox roiKeyBox(const Box& box, double resolution)
-{
-  KeyBox k;
-  for (int a = 0; a < 3; ++a) {
-    const double c = box.center[a], half = 0.5 * box.size[a];
-    auto inside = [&](int key) { return std::abs(rt::keyToCoord(resolution, key) - c) <= half; };
-    const double lo = std::floor((c - half) / resolution) + rt::kTreeMaxVal - 2.0;
-    const double hi = std::ceil((c + half) / resolution) + rt::kTreeMaxVal + 2.0;
-    int klo = static_cast<int>(std::max(lo, 0.0));
-    int khi = static_cast<int>(std::min(hi, kKeyLimit - 1.0));
-    while (klo <= khi && !inside(klo))
-      ++klo;
-    while (khi >= klo && !inside(khi))
-      --khi;
-    k.lo[a] = klo;
-    k.hi[a] = khi;
-  }
-  return k;
-}
-
-/// What a code's value stands for.
-struct Value {
-  double entropy = 1.0;   ///< bits
-  double free_prob = 0.5; ///< 1 - occupancy probability
-  bool occupied = false;
-};
-
-/// A leaf of the octree: a cube of 2^shift voxels per side from key k.
-struct Leaf {
-  int k[3];
-  int shift;
-  float log_odds;
-};
-
-/// Per voxel a code: (value index << 1) | in ROI. Value 0 is "unknown". The table holds
-/// per 8^3 brick either kUniform | code or the brick's index in `voxels`.
-template <typename CodeT>
-struct Bricks {
-  int b0[3] = {0, 0, 0};
-  int nb[3] = {0, 0, 0};
-  std::vector<std::uint32_t> table;
-  std::vector<CodeT> voxels;
-  CodeT outside = 0; ///< the code of voxels outside the table
-
-  std::size_t slot(int bx, int by, int bz) const
-  {
-    return (static_cast<std::size_t>(bz) * nb[1] + by) * nb[0] + bx;
-  }
-
-  CodeT code(int kx, int ky, int kz) const
-  {
-    const unsigned bx = static_cast<unsigned>((kx >> kBrickShift) - b0[0]);
-    const unsigned by = static_cast<unsigned>((ky >> kBrickShift) - b0[1]);
-    const unsigned bz = static_cast<unsigned>((kz >> kBrickShift) - b0[2]);
-    if (bx >= static_cast<unsigned>(nb[0]) || by >= static_cast<unsigned>(nb[1]) ||
-        bz >= static_cast<unsigned>(nb[2]))
-      return outside;
-    const std::uint32_t e = table[slot(static_cast<int>(bx), static_cast<int>(by),
-                                       static_cast<int>(bz))];
-    if (e & kUniform)
-      return static_cast<CodeT>(e & ~kUniform);
-    return voxels[(static_cast<std::size_t>(e) << (3 * kBrickShift)) + brickLocal(kx, ky, kz)];
-  }
-
-  /// The brick at slot s as voxels (allocated, filled with its uniform code, if needed).
-  CodeT* materialize(std::size_t s)
-  {
-    std::uint32_t& e = table[s];
-    if (e & kUniform) {
-      const CodeT c = static_cast<CodeT>(e & ~kUniform);
-      const std::size_t index = voxels.size() >> (3 * kBrickShift);
-      voxels.resize(voxels.size() + kBrickVoxels, c);
-      e = static_cast<std::uint32_t>(index);
-    }
-    return &voxels[static_cast<std::size_t>(e) << (3 * kBrickShift)];
-  }
-
-  void clear()
-  {
-    table.clear();
-    voxels.clear();
-    for (int a = 0; a < 3; ++a)
-      b0[a] = nb[a] = 0;
-  }
-};
-
-/// One candidate's set of distinct voxels (keys in a box of bricks), with the largest
-/// visibility per voxel when weighted. Reused: reset() clears only what was used.
+/// One candidate's set of distinct voxels by key, in a box of bricks, with the largest
+/// visibility per voxel when weighted. Reused: reset() clears only what was used. For
+/// the general kernel (no ROI, or visibility weighting).
 class VoxelSet {
 public:
   void reset(const int b0[3], const int nb[3], bool weighted)
@@ -211,57 +81,55 @@ public:
   {
     std::uint64_t* w = words(kx, ky, kz);
     if (!w) {
-      auto it = overflow_.insert(pack(kx, ky, kz));
-      if (it.second)
-        overflow_vis_.push_back({pack(kx, ky, kz), vis});
-      else
-        for (auto& [key, v] : overflow_vis_)
-          if (key == pack(kx, ky, kz))
-            v = std::max(v, vis);
+      const std::uint64_t key = pack(kx, ky, kz);
+      if (overflow_.insert(key).second) {
+        overflow_vis_.push_back({key, vis});
+      } else {
+        for (auto& kv : overflow_vis_)
+          if (kv.first == key)
+            kv.second = std::max(kv.second, vis);
+      }
       return;
     }
-    const int local = brickLocal(kx, ky, kz);
     const std::size_t slot = static_cast<std::size_t>(w - bits_.data()) / 8;
-    double& v = vis_[slot * kBrickVoxels + local];
+    double& v = vis_[slot * kBrickVoxels + static_cast<std::size_t>(brickLocal(kx, ky, kz))];
     if (vis > v)
       v = vis; // starts at -1
   }
 
-  /// Calls f(kx, ky, kz, vis) for every voxel in a fixed order (first-touched brick
-  /// first, then voxel index); vis is 1 when not weighted.
+  /// Calls f(kx, ky, kz, vis) for every voxel in a fixed order (bricks in first-touch
+  /// order, voxels by index); vis is 1 when not weighted.
   template <typename F>
   void forEach(F&& f) const
   {
     for (std::size_t slot = 0; slot < used_.size(); ++slot) {
       const std::size_t s = used_[slot];
-      const int bx = static_cast<int>(s % nb_[0]);
-      const int by = static_cast<int>((s / nb_[0]) % nb_[1]);
-      const int bz = static_cast<int>(s / (static_cast<std::size_t>(nb_[0]) * nb_[1]));
-      const int base[3] = {(bx + b0_[0]) << kBrickShift, (by + b0_[1]) << kBrickShift,
-                           (bz + b0_[2]) << kBrickShift};
+      const std::size_t nx = static_cast<std::size_t>(nb_[0]), ny = static_cast<std::size_t>(nb_[1]);
+      const int base[3] = {(static_cast<int>(s % nx) + b0_[0]) << kBrickShift,
+                           (static_cast<int>((s / nx) % ny) + b0_[1]) << kBrickShift,
+                           (static_cast<int>(s / (nx * ny)) + b0_[2]) << kBrickShift};
       for (int local = 0; local < kBrickVoxels; ++local) {
         double vis = 1.0;
         if (weighted_) {
-          vis = vis_[slot * kBrickVoxels + local];
+          vis = vis_[slot * kBrickVoxels + static_cast<std::size_t>(local)];
           if (vis < 0.0)
             continue;
-        } else if (!(bits_[slot * 8 + (local >> 6)] >> (local & 63) & 1u)) {
+        } else if (!((bits_[slot * 8 + static_cast<std::size_t>(local >> 6)] >> (local & 63)) & 1u)) {
           continue;
         }
         f(base[0] + (local & kBrickMask), base[1] + ((local >> kBrickShift) & kBrickMask),
           base[2] + (local >> (2 * kBrickShift)), vis);
       }
     }
-    for (const auto& [key, vis] : overflow_vis_)
-      f(static_cast<int>(key >> 32), static_cast<int>((key >> 16) & 0xffffu),
-        static_cast<int>(key & 0xffffu), vis);
-    if (!weighted_) {
-      std::vector<std::uint64_t> rest(overflow_.begin(), overflow_.end());
-      std::sort(rest.begin(), rest.end());
-      for (const std::uint64_t key : rest)
-        f(static_cast<int>(key >> 32), static_cast<int>((key >> 16) & 0xffffu),
-          static_cast<int>(key & 0xffffu), 1.0);
-    }
+    // Voxels outside the box (never expected: it holds every voxel that counts).
+    std::vector<std::pair<std::uint64_t, double>> rest = overflow_vis_;
+    if (!weighted_)
+      for (const std::uint64_t key : overflow_)
+        rest.push_back({key, 1.0});
+    std::sort(rest.begin(), rest.end());
+    for (const auto& kv : rest)
+      f(static_cast<int>(kv.first >> 32), static_cast<int>((kv.first >> 16) & 0xffffu),
+        static_cast<int>(kv.first & 0xffffu), kv.second);
   }
 
 private:
@@ -274,13 +142,15 @@ private:
   /// The bit words of the voxel's brick (made on first use); null outside the box.
   std::uint64_t* words(int kx, int ky, int kz)
   {
-    const unsigned bx = static_cast<unsigned>((kx >> kBrickShift) - b0_[0]);
-    const unsigned by = static_cast<unsigned>((ky >> kBrickShift) - b0_[1]);
-    const unsigned bz = static_cast<unsigned>((kz >> kBrickShift) - b0_[2]);
-    if (bx >= static_cast<unsigned>(nb_[0]) || by >= static_cast<unsigned>(nb_[1]) ||
-        bz >= static_cast<unsigned>(nb_[2]))
+    const unsigned rx = static_cast<unsigned>((kx >> kBrickShift) - b0_[0]);
+    const unsigned ry = static_cast<unsigned>((ky >> kBrickShift) - b0_[1]);
+    const unsigned rz = static_cast<unsigned>((kz >> kBrickShift) - b0_[2]);
+    if (rx >= static_cast<unsigned>(nb_[0]) || ry >= static_cast<unsigned>(nb_[1]) ||
+        rz >= static_cast<unsigned>(nb_[2]))
       return nullptr;
-    const std::size_t s = (static_cast<std::size_t>(bz) * nb_[1] + by) * nb_[0] + bx;
+    const std::size_t s = (static_cast<std::size_t>(rz) * static_cast<std::size_t>(nb_[1]) + ry) *
+                              static_cast<std::size_t>(nb_[0]) +
+                          rx;
     std::uint32_t e = table_[s];
     if (!e) {
       const std::size_t slot = used_.size();
@@ -295,8 +165,7 @@ private:
         if (vis_.size() < (slot + 1) * kBrickVoxels)
           vis_.resize((slot + 1) * kBrickVoxels);
         std::fill(vis_.begin() + static_cast<std::ptrdiff_t>(slot * kBrickVoxels),
-                  vis_.begin() + static_cast<std::ptrdiff_t>((slot + 1) * kBrickVoxels),
-                  -1.0);
+                  vis_.begin() + static_cast<std::ptrdiff_t>((slot + 1) * kBrickVoxels), -1.0);
       }
     }
     return &bits_[(e - 1) * std::size_t{8}];
@@ -309,248 +178,180 @@ private:
   std::vector<std::uint32_t> used_;  ///< table index per slot
   std::vector<std::uint64_t> bits_;  ///< 8 words per slot
   std::vector<double> vis_;          ///< 512 per slot (weighted)
-  /// Voxels outside the box (never expected: the box holds every voxel that counts).
   std::unordered_set<std::uint64_t> overflow_;
   std::vector<std::pair<std::uint64_t, double>> overflow_vis_;
 };
 
+/// One candidate's distinct ROI voxels: a bit per voxel of the ROI's bricks, cleared
+/// brick by brick when first touched (a stamp per brick).
+class RoiSeen {
+public:
+  void reset(const KeyBox& roi)
+  {
+    std::size_t n = 1;
+    bool same = true;
+    for (int a = 0; a < 3; ++a) {
+      const int b0 = roi.lo[a] >> kBrickShift, nb = (roi.hi[a] >> kBrickShift) - b0 + 1;
+      same = same && b0 == b0_[a] && nb == nb_[a];
+      b0_[a] = b0;
+      nb_[a] = nb;
+      n *= static_cast<std::size_t>(nb);
+    }
+    if (!same || stamps_.size() != n || current_ == ~std::uint32_t{0}) {
+      stamps_.assign(n, 0);
+      bits_.resize(n * 8);
+      current_ = 0;
+    }
+    ++current_;
+  }
+  /// The 8 bit words of the brick at brick coordinates b; null outside the ROI's bricks.
+  std::uint64_t* brick(int bx, int by, int bz)
+  {
+    const unsigned rx = static_cast<unsigned>(bx - b0_[0]);
+    const unsigned ry = static_cast<unsigned>(by - b0_[1]);
+    const unsigned rz = static_cast<unsigned>(bz - b0_[2]);
+    if (rx >= static_cast<unsigned>(nb_[0]) || ry >= static_cast<unsigned>(nb_[1]) ||
+        rz >= static_cast<unsigned>(nb_[2]))
+      return nullptr;
+    const std::size_t i = (static_cast<std::size_t>(rz) * static_cast<std::size_t>(nb_[1]) + ry) *
+                              static_cast<std::size_t>(nb_[0]) +
+                          rx;
+    std::uint64_t* w = &bits_[i * 8];
+    if (stamps_[i] != current_) {
+      stamps_[i] = current_;
+      std::fill(w, w + 8, 0);
+    }
+    return w;
+  }
+
+private:
+  int b0_[3] = {0, 0, 0};
+  int nb_[3] = {0, 0, 0};
+  std::vector<std::uint32_t> stamps_;
+  std::vector<std::uint64_t> bits_;
+  std::uint32_t current_ = 0;
+};
+
 /// One thread's buffers.
 struct ThreadScratch {
-  VoxelSet set;
+  VoxelSet voxels;
+  RoiSeen seen;
   std::vector<std::uint32_t> counts; ///< per value
   std::vector<std::uint8_t> ray_marks;
 };
 
-} // namespace
+/// A segment o + s d, s in [0, 1] (from the float origin and end), for clipping.
+struct Segment {
+  double o[3];
+  double d[3];
+  double inv[3]; ///< 1 / d (unused where d is 0)
 
-struct InformationGain::Impl {
-  // The snapshot (update()).
-  const octomap::OcTree* tree = nullptr;
-  double resolution = 0.0;
-  double resolution_factor = 0.0;
-  bool roi_mode = false; ///< a non-empty ROI
-  bool full = false;     ///< every known voxel stored (no ROI, or visibility weighting)
-  bool wide = false;     ///< 32-bit codes (more than 32767 distinct values)
-  std::vector<KeyBox> roi_boxes; ///< keys inside each ROI box (some may be empty)
-  KeyBox roi_bbox;               ///< their union's bounding box
-  std::vector<Box> clip_boxes;   ///< the ROI boxes grown by one voxel
-  std::vector<Value> values;
-  Bricks<std::uint16_t> narrow;
-  Bricks<std::uint32_t> wide_bricks;
-  std::vector<Leaf> leaves;
-  bool built = false;
-
-  // The rays (per config).
-  std::vector<Eigen::Vector3d> dirs_C;
-  gain_detail::ImagePlane plane;
-
-  std::vector<ThreadScratch> scratch;
-
-  void collect(const octomap::OcTreeNode* node, int depth, const int k[3], float threshold)
+  Segment(const float origin[3], const float end[3])
   {
-    const int size = 1 << (rt::kTreeDepth - depth);
-    const bool near_roi = roi_mode && roi_bbox.overlapsCube(k, size);
-    if (!tree->nodeHasChildren(node)) {
-      if (full || near_roi || node->getLogOdds() > threshold)
-        leaves.push_back({{k[0], k[1], k[2]}, rt::kTreeDepth - depth, node->getLogOdds()});
-      return;
-    }
-    // Inner nodes hold the maximum of their children (OccupancyMap keeps them so):
-    // away from the ROI only subtrees with an occupied voxel matter.
-    if (!full && !near_roi && !(node->getLogOdds() > threshold))
-      return;
-    const int half = size >> 1;
-    for (unsigned i = 0; i < 8; ++i) {
-      if (!tree->nodeChildExists(node, i))
-        continue;
-      const int c[3] = {k[0] + ((i & 1u) ? half : 0), k[1] + ((i & 2u) ? half : 0),
-                        k[2] + ((i & 4u) ? half : 0)};
-      collect(tree->getNodeChild(node, i), depth + 1, c, threshold);
-    }
-  }
-
-  template <typename CodeT>
-  void fill(Bricks<CodeT>& bricks, const KeyBox& region, const std::vector<float>& sorted)
-  {
-    bricks.clear();
-    std::size_t n = 1;
     for (int a = 0; a < 3; ++a) {
-      bricks.b0[a] = region.lo[a] >> kBrickShift;
-      bricks.nb[a] = (region.hi[a] >> kBrickShift) - bricks.b0[a] + 1;
-      n *= static_cast<std::size_t>(bricks.nb[a]);
+      o[a] = origin[a];
+      d[a] = static_cast<double>(end[a]) - o[a];
+      inv[a] = d[a] != 0.0 ? 1.0 / d[a] : 0.0;
     }
-    if (n > (std::size_t{1} << 28)) {
-      std::ostringstream s;
-      s << "InformationGain::update: the map's region to snapshot spans " << n
-        << " bricks of 8^3 voxels, more than 2^28; use an ROI (and no visibility "
-           "weighting) so that only the occupied voxels outside it are needed";
-      throw Error(s.str());
-    }
-    bricks.outside = roi_mode ? 0 : 1; // unknown; in the "ROI" when everything counts
-    bricks.table.assign(n, kUniform | bricks.outside);
-
-    // Bricks at the ROI's border get per-voxel flags; bricks inside it a uniform code.
-    if (roi_mode && !roi_bbox.empty()) {
-      for (int bz = roi_bbox.lo[2] >> kBrickShift; bz <= roi_bbox.hi[2] >> kBrickShift; ++bz)
-        for (int by = roi_bbox.lo[1] >> kBrickShift; by <= roi_bbox.hi[1] >> kBrickShift; ++by)
-          for (int bx = roi_bbox.lo[0] >> kBrickShift; bx <= roi_bbox.hi[0] >> kBrickShift;
-               ++bx) {
-            const int k[3] = {bx << kBrickShift, by << kBrickShift, bz << kBrickShift};
-            bool inside = false, touches = false;
-            for (const KeyBox& b : roi_boxes) {
-              if (b.empty() || !b.overlapsCube(k, 1 << kBrickShift))
-                continue;
-              touches = true;
-              bool covers = true;
-              for (int a = 0; a < 3; ++a)
-                covers = covers && b.lo[a] <= k[a] && b.hi[a] >= k[a] + kBrickMask;
-              inside = inside || covers;
-            }
-            const std::size_t s = bricks.slot(bx - bricks.b0[0], by - bricks.b0[1],
-                                              bz - bricks.b0[2]);
-            if (inside) {
-              bricks.table[s] = kUniform | 1u;
-            } else if (touches) {
-              CodeT* v = bricks.materialize(s);
-              for (int local = 0; local < kBrickVoxels; ++local) {
-                const int kx = k[0] + (local & kBrickMask);
-                const int ky = k[1] + ((local >> kBrickShift) & kBrickMask);
-                const int kz = k[2] + (local >> (2 * kBrickShift));
-                bool in = false;
-                for (const KeyBox& b : roi_boxes)
-                  in = in || b.contains(kx, ky, kz);
-                v[local] = static_cast<CodeT>(in ? 1 : 0);
-              }
-            }
-          }
-    }
-
-    for (const Leaf& leaf : leaves) {
-      const auto it = std::lower_bound(sorted.begin(), sorted.end(), leaf.log_odds);
-      const CodeT value = static_cast<CodeT>((it - sorted.begin()) + 1);
-      const int size = 1 << leaf.shift;
-      int lo[3], hi[3];
-      bool empty = false;
-      for (int a = 0; a < 3; ++a) {
-        lo[a] = std::max(leaf.k[a], region.lo[a]);
-        hi[a] = std::min(leaf.k[a] + size - 1, region.hi[a]);
-        empty = empty || lo[a] > hi[a];
-      }
-      if (empty)
+  }
+  double length() const { return std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]); }
+  /// The interval [s0, s1] of s inside the box; false if empty.
+  bool clip(const ClipBox& box, double& s0, double& s1) const
+  {
+    s0 = 0.0;
+    s1 = 1.0;
+    for (int a = 0; a < 3; ++a) {
+      if (d[a] == 0.0) {
+        if (o[a] < box.lo[a] || o[a] > box.hi[a])
+          return false;
         continue;
-      for (int bz = lo[2] >> kBrickShift; bz <= hi[2] >> kBrickShift; ++bz)
-        for (int by = lo[1] >> kBrickShift; by <= hi[1] >> kBrickShift; ++by)
-          for (int bx = lo[0] >> kBrickShift; bx <= hi[0] >> kBrickShift; ++bx) {
-            const std::size_t s = bricks.slot(bx - bricks.b0[0], by - bricks.b0[1],
-                                              bz - bricks.b0[2]);
-            const int k0[3] = {bx << kBrickShift, by << kBrickShift, bz << kBrickShift};
-            int v_lo[3], v_hi[3];
-            bool whole = true;
-            for (int a = 0; a < 3; ++a) {
-              v_lo[a] = std::max(lo[a], k0[a]) - k0[a];
-              v_hi[a] = std::min(hi[a], k0[a] + kBrickMask) - k0[a];
-              whole = whole && v_lo[a] == 0 && v_hi[a] == kBrickMask;
-            }
-            std::uint32_t& e = bricks.table[s];
-            if (whole && (e & kUniform)) {
-              e = kUniform | (static_cast<std::uint32_t>(value) << 1) | (e & 1u);
-              continue;
-            }
-            CodeT* v = bricks.materialize(s);
-            for (int z = v_lo[2]; z <= v_hi[2]; ++z)
-              for (int y = v_lo[1]; y <= v_hi[1]; ++y)
-                for (int x = v_lo[0]; x <= v_hi[0]; ++x) {
-                  CodeT& c = v[(z << (2 * kBrickShift)) | (y << kBrickShift) | x];
-                  c = static_cast<CodeT>((value << 1) | (c & 1u));
-                }
-          }
-    }
-  }
-
-  std::size_t brickCount() const
-  {
-    return wide ? wide_bricks.voxels.size() / kBrickVoxels : narrow.voxels.size() / kBrickVoxels;
-  }
-
-  void build(const OccupancyMap& map, const Roi& roi, const GainConfig& config)
-  {
-    built = false;
-    tree = &map.getOcTree();
-    resolution = tree->getResolution();
-    resolution_factor = 1.0 / resolution; // as OcTreeBaseImpl computes it
-    roi_mode = !roi.empty();
-    full = !roi_mode || config.visibility_weighted;
-    roi_boxes.clear();
-    roi_bbox = KeyBox();
-    clip_boxes.clear();
-    for (const Box& b : roi.boxes()) {
-      roi_boxes.push_back(roiKeyBox(b, resolution));
-      roi_bbox.extend(roi_boxes.back());
-      const Eigen::Vector3d grow = Eigen::Vector3d::Constant(resolution);
-      clip_boxes.push_back(Box::fromMinMax(b.min() - grow, b.max() + grow));
-    }
-
-    leaves.clear();
-    const float threshold = tree->getOccupancyThresLog();
-    if (const octomap::OcTreeNode* root = tree->getRoot()) {
-      const int k[3] = {0, 0, 0};
-      collect(root, 0, k, threshold);
-    }
-
-    // The distinct log-odds values, sorted: value i + 1 is sorted[i]; 0 is unknown.
-    std::vector<float> sorted;
-    sorted.reserve(leaves.size());
-    for (const Leaf& leaf : leaves)
-      sorted.push_back(leaf.log_odds);
-    std::sort(sorted.begin(), sorted.end());
-    sorted.erase(std::unique(sorted.begin(), sorted.end()), sorted.end());
-    values.assign(sorted.size() + 1, Value());
-    values[0].entropy = occupancyEntropy(0.5);
-    values[0].free_prob = 0.5;
-    values[0].occupied = false;
-    for (std::size_t i = 0; i < sorted.size(); ++i) {
-      const double p = octomap::probability(sorted[i]); // OcTreeNode::getOccupancy()
-      values[i + 1].entropy = occupancyEntropy(p);
-      values[i + 1].free_prob = 1.0 - p;
-      values[i + 1].occupied = sorted[i] > threshold; // OcTree::isNodeOccupied
-    }
-    wide = values.size() > 32767;
-
-    // The region: the ROI's keys, every stored occupied leaf, and the other stored
-    // leaves where they matter (within the ROI's keys unless every voxel is needed).
-    KeyBox region = roi_bbox;
-    for (const Leaf& leaf : leaves) {
-      KeyBox b;
-      for (int a = 0; a < 3; ++a) {
-        b.lo[a] = leaf.k[a];
-        b.hi[a] = leaf.k[a] + (1 << leaf.shift) - 1;
-        if (!full && !(leaf.log_odds > threshold)) {
-          b.lo[a] = std::max(b.lo[a], roi_bbox.lo[a]);
-          b.hi[a] = std::min(b.hi[a], roi_bbox.hi[a]);
-        }
       }
-      region.extend(b);
+      double t0 = (box.lo[a] - o[a]) * inv[a], t1 = (box.hi[a] - o[a]) * inv[a];
+      if (t0 > t1)
+        std::swap(t0, t1);
+      s0 = std::max(s0, t0);
+      s1 = std::min(s1, t1);
     }
-    if (region.empty()) // nothing known, no ROI voxel: one brick of "unknown"
-      for (int a = 0; a < 3; ++a)
-        region.lo[a] = region.hi[a] = rt::kTreeMaxVal;
-    if (wide) {
-      narrow.clear();
-      fill(wide_bricks, region, sorted);
-    } else {
-      wide_bricks.clear();
-      fill(narrow, region, sorted);
-    }
-    built = true;
+    return s0 <= s1;
   }
 };
 
-// ---------------------------------------------------------------------------------------
+/// Marks the rays whose image-plane cell may see a (grown) ROI box: its corners'
+/// projection, one cell of margin; all rays of a box with a corner behind the camera.
+void markRays(const Snapshot& snap, const GainConfig& config, const ImagePlane& plane,
+              const Viewpoint& view, const Eigen::Matrix3d& R, std::vector<std::uint8_t>& marks)
+{
+  const int n_rays = config.rays_x * config.rays_y;
+  marks.assign(static_cast<std::size_t>(n_rays), snap.roi_mode ? 0 : 1);
+  if (!snap.roi_mode)
+    return;
+  const Eigen::Matrix3d Rt = R.transpose();
+  for (const ClipBox& box : snap.clip_boxes) {
+    const Eigen::Vector3d lo(box.lo[0], box.lo[1], box.lo[2]);
+    const Eigen::Vector3d hi(box.hi[0], box.hi[1], box.hi[2]);
+    double x_min = std::numeric_limits<double>::infinity(), x_max = -x_min;
+    double y_min = x_min, y_max = -x_min;
+    bool behind = false;
+    for (int c = 0; c < 8 && !behind; ++c) {
+      const Eigen::Vector3d corner((c & 1) ? hi.x() : lo.x(), (c & 2) ? hi.y() : lo.y(),
+                                   (c & 4) ? hi.z() : lo.z());
+      const Eigen::Vector3d v = Rt * (corner - view.position); // body frame
+      if (!(v.x() > 1e-6)) {
+        behind = true;
+        break;
+      }
+      const double x_o = -v.y() / v.x(), y_o = -v.z() / v.x(); // optical image plane
+      x_min = std::min(x_min, x_o);
+      x_max = std::max(x_max, x_o);
+      y_min = std::min(y_min, y_o);
+      y_max = std::max(y_max, y_o);
+    }
+    int i0 = 0, i1 = config.rays_x - 1, j0 = 0, j1 = config.rays_y - 1;
+    if (!behind) {
+      // The column of image-plane x is ((x / tan_h + 1) rays_x - 1) / 2.
+      auto cell = [](double v, double tan_half, int n) {
+        return ((v / tan_half + 1.0) * n - 1.0) * 0.5;
+      };
+      const double ci0 = cell(x_min, plane.tan_half_h, config.rays_x);
+      const double ci1 = cell(x_max, plane.tan_half_h, config.rays_x);
+      const double cj0 = cell(y_min, plane.tan_half_v, config.rays_y);
+      const double cj1 = cell(y_max, plane.tan_half_v, config.rays_y);
+      if (ci1 < -1.0 || ci0 > config.rays_x || cj1 < -1.0 || cj0 > config.rays_y)
+        continue; // out of view
+      i0 = std::max(i0, static_cast<int>(std::floor(ci0)) - 1);
+      i1 = std::min(i1, static_cast<int>(std::ceil(ci1)) + 1);
+      j0 = std::max(j0, static_cast<int>(std::floor(cj0)) - 1);
+      j1 = std::min(j1, static_cast<int>(std::ceil(cj1)) + 1);
+    }
+    for (int j = j0; j <= j1; ++j)
+      std::fill(marks.begin() + j * config.rays_x + i0,
+                marks.begin() + j * config.rays_x + i1 + 1, 1);
+  }
+}
 
-namespace {
+/// Where the segment leaves the last grown ROI box (metres from the origin along it):
+/// < 0 if it misses them all, +inf if it ends inside one (nothing is clipped then).
+/// The boxes are grown by a voxel, so a voxel whose centre lies in the ROI is entered
+/// and left by the ray well inside them: rounding cannot matter.
+double clipDistance(const Snapshot& snap, const Segment& seg)
+{
+  double s_last = -1.0;
+  for (const ClipBox& box : snap.clip_boxes) {
+    double s0, s1;
+    if (seg.clip(box, s0, s1))
+      s_last = std::max(s_last, s1);
+  }
+  if (s_last < 0.0)
+    return -1.0;
+  if (s_last >= 1.0)
+    return std::numeric_limits<double>::infinity();
+  return s_last * seg.length();
+}
 
-/// Walks one ray's voxels: looks each up in the snapshot, dedupes those in the ROI,
-/// stops at an occupied voxel (unweighted) and once past the ROI's last box.
+// --- the general kernel (no ROI, or visibility weighting) ------------------------------
+
+/// Walks one ray's voxels with the shared traversal: looks each up in the snapshot,
+/// dedupes those that count, stops at an occupied voxel (unweighted) and past the ROI.
 template <typename CodeT, bool kWeighted>
 struct RayWalker {
   const Bricks<CodeT>& bricks;
@@ -575,17 +376,16 @@ struct RayWalker {
 
   bool visit(int kx, int ky, int kz)
   {
-    const CodeT c = bricks.code(kx, ky, kz);
-    const Value& value = values[c >> 1];
+    const unsigned c = bricks.code(kx, ky, kz);
     if constexpr (kWeighted) {
-      if (c & 1u)
+      if (c & kInRoi)
         set.insertMax(kx, ky, kz, vis);
-      vis *= value.free_prob;
+      vis *= values[c >> kValueShift].free_prob;
       return true;
     } else {
-      if ((c & 1u) && set.insert(kx, ky, kz))
-        ++counts[c >> 1];
-      if (value.occupied) {
+      if ((c & kInRoi) && set.insert(kx, ky, kz))
+        ++counts[c >> kValueShift];
+      if (c & kOccupied) {
         stopped = true;
         return false;
       }
@@ -594,106 +394,33 @@ struct RayWalker {
   }
 };
 
-/// The segment o + s (e - o), s in [0, 1], against a box: the interval of s inside it.
-bool clipSegment(const double o[3], const double d[3], const Box& box, double& s0, double& s1)
-{
-  s0 = 0.0;
-  s1 = 1.0;
-  const Eigen::Vector3d lo = box.min(), hi = box.max();
-  for (int a = 0; a < 3; ++a) {
-    if (d[a] == 0.0) {
-      if (o[a] < lo[a] || o[a] > hi[a])
-        return false;
-      continue;
-    }
-    double t0 = (lo[a] - o[a]) / d[a], t1 = (hi[a] - o[a]) / d[a];
-    if (t0 > t1)
-      std::swap(t0, t1);
-    s0 = std::max(s0, t0);
-    s1 = std::min(s1, t1);
-    if (s0 > s1)
-      return false;
-  }
-  return true;
-}
-
-} // namespace
-
-namespace {
-
-/// The gain of one candidate on the snapshot.
 template <typename CodeT, bool kWeighted>
-ViewGain computeOne(const InformationGain::Impl& impl, const Bricks<CodeT>& bricks,
-                    const GainConfig& config, ThreadScratch& scratch, const Viewpoint& view)
+ViewGain computeGeneral(const Snapshot& snap, const Bricks<CodeT>& bricks,
+                        const GainConfig& config, const ImagePlane& plane,
+                        const std::vector<Eigen::Vector3d>& dirs, ThreadScratch& scratch,
+                        const Viewpoint& view)
 {
   ViewGain result;
   float origin[3];
-  gain_detail::rayOrigin(view, origin);
+  rayOrigin(view, origin);
   int key_origin[3];
-  if (!rt::coordToKeyChecked(impl.resolution_factor, origin, key_origin))
+  if (!rt::coordToKeyChecked(snap.resolution_factor, origin, key_origin))
     return result; // outside the octree: no ray
   const Eigen::Matrix3d R = view.orientation.toRotationMatrix();
-  const int n_rays = config.rays_x * config.rays_y;
-
-  // Rays that may meet the ROI: those whose image-plane cell lies in the projection of
-  // a (grown) box, then the exact segment test below.
-  std::vector<std::uint8_t>& marks = scratch.ray_marks;
-  marks.assign(static_cast<std::size_t>(n_rays), impl.roi_mode ? 0 : 1);
-  if (impl.roi_mode) {
-    const Eigen::Matrix3d Rt = R.transpose();
-    for (const Box& box : impl.clip_boxes) {
-      const Eigen::Vector3d lo = box.min(), hi = box.max();
-      double x_min = std::numeric_limits<double>::infinity(), x_max = -x_min;
-      double y_min = x_min, y_max = -x_min;
-      bool behind = false;
-      for (int c = 0; c < 8; ++c) {
-        const Eigen::Vector3d corner((c & 1) ? hi.x() : lo.x(), (c & 2) ? hi.y() : lo.y(),
-                                     (c & 4) ? hi.z() : lo.z());
-        const Eigen::Vector3d v = Rt * (corner - view.position); // body frame
-        if (!(v.x() > 1e-6)) {
-          behind = true;
-          break;
-        }
-        const double x_o = -v.y() / v.x(), y_o = -v.z() / v.x();
-        x_min = std::min(x_min, x_o);
-        x_max = std::max(x_max, x_o);
-        y_min = std::min(y_min, y_o);
-        y_max = std::max(y_max, y_o);
-      }
-      int i0 = 0, i1 = config.rays_x - 1, j0 = 0, j1 = config.rays_y - 1;
-      if (!behind) {
-        // Column of image-plane x: ((x / tan_h + 1) rays_x - 1) / 2; one cell of margin.
-        auto cell = [](double v, double tan_half, int n) {
-          return ((v / tan_half + 1.0) * n - 1.0) * 0.5;
-        };
-        const double ci0 = cell(x_min, impl.plane.tan_half_h, config.rays_x);
-        const double ci1 = cell(x_max, impl.plane.tan_half_h, config.rays_x);
-        const double cj0 = cell(y_min, impl.plane.tan_half_v, config.rays_y);
-        const double cj1 = cell(y_max, impl.plane.tan_half_v, config.rays_y);
-        if (ci1 < -1.0 || ci0 > config.rays_x || cj1 < -1.0 || cj0 > config.rays_y)
-          continue; // out of view
-        i0 = std::max(i0, static_cast<int>(std::floor(ci0)) - 1);
-        i1 = std::min(i1, static_cast<int>(std::ceil(ci1)) + 1);
-        j0 = std::max(j0, static_cast<int>(std::floor(cj0)) - 1);
-        j1 = std::min(j1, static_cast<int>(std::ceil(cj1)) + 1);
-      }
-      for (int j = j0; j <= j1; ++j)
-        std::fill(marks.begin() + j * config.rays_x + i0,
-                  marks.begin() + j * config.rays_x + i1 + 1, 1);
-    }
-  }
+  markRays(snap, config, plane, view, R, scratch.ray_marks);
 
   // The voxels that count lie in the ROI's keys, or without ROI within the range.
   int b0[3], nb[3];
-  if (impl.roi_mode) {
-    if (impl.roi_bbox.empty())
+  if (snap.roi_mode) {
+    if (snap.roi_bbox.empty())
       return result; // no voxel centre inside the ROI
     for (int a = 0; a < 3; ++a) {
-      b0[a] = impl.roi_bbox.lo[a] >> kBrickShift;
-      nb[a] = (impl.roi_bbox.hi[a] >> kBrickShift) - b0[a] + 1;
+      b0[a] = snap.roi_bbox.lo[a] >> kBrickShift;
+      nb[a] = (snap.roi_bbox.hi[a] >> kBrickShift) - b0[a] + 1;
     }
   } else {
-    const int reach = static_cast<int>(std::ceil(config.raycast_range_m * impl.resolution_factor)) + 2;
+    const int reach =
+        static_cast<int>(std::ceil(config.raycast_range_m * snap.resolution_factor)) + 2;
     for (int a = 0; a < 3; ++a) {
       const int lo = std::max(key_origin[a] - reach, 0);
       const int hi = std::min(key_origin[a] + reach, kKeyLimit - 1);
@@ -701,60 +428,393 @@ ViewGain computeOne(const InformationGain::Impl& impl, const Bricks<CodeT>& bric
       nb[a] = (hi >> kBrickShift) - b0[a] + 1;
     }
   }
-  scratch.set.reset(b0, nb, kWeighted);
-  scratch.counts.assign(impl.values.size(), 0);
+  scratch.voxels.reset(b0, nb, kWeighted);
+  scratch.counts.assign(snap.values.size(), 0);
 
-  const double o[3] = {origin[0], origin[1], origin[2]};
+  const int n_rays = config.rays_x * config.rays_y;
   for (int r = 0; r < n_rays; ++r) {
-    if (!marks[static_cast<std::size_t>(r)])
+    if (!scratch.ray_marks[static_cast<std::size_t>(r)])
       continue;
     float end[3];
-    gain_detail::rayEnd(R, view.position, impl.dirs_C[static_cast<std::size_t>(r)],
-                        config.raycast_range_m, end);
+    rayEnd(R, view.position, dirs[static_cast<std::size_t>(r)], config.raycast_range_m, end);
     int key_end[3];
-    if (!rt::coordToKeyChecked(impl.resolution_factor, end, key_end))
+    if (!rt::coordToKeyChecked(snap.resolution_factor, end, key_end))
       continue;
-    RayWalker<CodeT, kWeighted> walker{bricks, impl.values.data(), scratch.set,
+    RayWalker<CodeT, kWeighted> walker{bricks, snap.values.data(), scratch.voxels,
                                        scratch.counts.data()};
-    if (impl.roi_mode) {
-      const double d[3] = {end[0] - o[0], end[1] - o[1], end[2] - o[2]};
-      double s_last = -1.0;
-      for (const Box& box : impl.clip_boxes) {
-        double s0, s1;
-        if (clipSegment(o, d, box, s0, s1))
-          s_last = std::max(s_last, s1);
-      }
-      if (s_last < 0.0)
+    if (snap.roi_mode) {
+      walker.t_stop = clipDistance(snap, Segment(origin, end));
+      if (walker.t_stop < 0.0)
         continue; // misses the ROI
-      // The segment ends in a box: nothing is clipped (the end voxel may count).
-      if (s_last < 1.0)
-        walker.t_stop = s_last * std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
     }
     ++result.rays_cast;
-    rt::traverseRay(origin, end, key_origin, key_end, impl.resolution, walker);
+    rt::traverseRay(origin, end, key_origin, key_end, snap.resolution, walker);
     if (!walker.stopped && !walker.clipped)
       walker.visit(key_end[0], key_end[1], key_end[2]);
   }
 
   if constexpr (kWeighted) {
-    scratch.set.forEach([&](int kx, int ky, int kz, double vis) {
-      const CodeT c = bricks.code(kx, ky, kz);
+    scratch.voxels.forEach([&](int kx, int ky, int kz, double vis) {
+      const unsigned value = bricks.code(kx, ky, kz) >> kValueShift;
       ++result.voxels_seen;
-      if ((c >> 1) == 0)
+      if (value == 0)
         ++result.unknown_seen;
-      result.gain += vis * impl.values[c >> 1].entropy;
+      result.gain += vis * snap.values[value].entropy;
     });
   } else {
-    for (std::size_t v = 0; v < impl.values.size(); ++v) {
+    for (std::size_t v = 0; v < snap.values.size(); ++v) {
       result.voxels_seen += scratch.counts[v];
-      result.gain += static_cast<double>(scratch.counts[v]) * impl.values[v].entropy;
+      result.gain += static_cast<double>(scratch.counts[v]) * snap.values[v].entropy;
     }
     result.unknown_seen = scratch.counts[0];
   }
   return result;
 }
 
+// --- the fast kernel (ROI, unweighted) --------------------------------------------------
+
+#define PLANTNBV_ALWAYS_INLINE inline __attribute__((always_inline))
+
+/// Whether the brick at brick coordinates b holds something that counts or stops rays.
+template <typename CodeT>
+bool brickMatters(const Bricks<CodeT>& bricks, const int b[3])
+{
+  const unsigned rx = static_cast<unsigned>(b[0] - bricks.b0[0]);
+  const unsigned ry = static_cast<unsigned>(b[1] - bricks.b0[1]);
+  const unsigned rz = static_cast<unsigned>(b[2] - bricks.b0[2]);
+  if (rx >= static_cast<unsigned>(bricks.nb[0]) || ry >= static_cast<unsigned>(bricks.nb[1]) ||
+      rz >= static_cast<unsigned>(bricks.nb[2]))
+    return false; // outside: unknown, not in the ROI
+  const std::uint32_t e = bricks.table[bricks.slot(static_cast<int>(rx), static_cast<int>(ry),
+                                                   static_cast<int>(rz))];
+  return !(e & kUniform) || (bricks.brick(e)[0] & (kInRoi | kOccupied));
+}
+
+/// The brick under the walk: its codes, whether it matters, and its ROI bits.
+template <typename CodeT>
+struct Cursor {
+  const CodeT* voxels;
+  bool empty; ///< nothing in the brick counts or stops a ray
+  std::uint64_t* seen; ///< null outside the ROI's bricks (no voxel there counts)
+};
+
+template <typename CodeT>
+PLANTNBV_ALWAYS_INLINE void loadBrick(const Bricks<CodeT>& bricks, RoiSeen& seen, int kx,
+                                      int ky, int kz, Cursor<CodeT>& c)
+{
+  std::size_t slot;
+  if (bricks.slotOf(kx, ky, kz, slot)) {
+    const std::uint32_t e = bricks.table[slot];
+    c.voxels = bricks.brick(e);
+    c.empty = (e & kUniform) && !(c.voxels[0] & (kInRoi | kOccupied));
+  } else {
+    c.voxels = bricks.brick(bricks.outside_brick);
+    c.empty = !(bricks.outside & (kInRoi | kOccupied));
+  }
+  c.seen = seen.brick(kx >> kBrickShift, ky >> kBrickShift, kz >> kBrickShift);
+}
+
+/// Visits a voxel of the cursor's brick: counts it if it is in the ROI and new; false if
+/// it is occupied (the ray stops after it).
+template <typename CodeT>
+PLANTNBV_ALWAYS_INLINE bool visitVoxel(const Cursor<CodeT>& c, std::uint32_t* counts, int kx,
+                                       int ky, int kz)
+{
+  const int local = brickLocal(kx, ky, kz);
+  const unsigned code = c.voxels[local];
+  if (code & kInRoi) {
+    std::uint64_t& word = c.seen[local >> 6];
+    const std::uint64_t bit = std::uint64_t{1} << (local & 63);
+    if (!(word & bit)) {
+      word |= bit;
+      ++counts[code >> kValueShift];
+    }
+  }
+  return !(code & kOccupied);
+}
+
+/// One ray's constants for jumps over bricks where nothing matters.
+struct JumpRay {
+  double o[3];       ///< origin (the float origin)
+  double inv_dir[3]; ///< 1 / OctoMap's float unit direction (0 where it is 0)
+  double dt[3];      ///< t_delta
+  int step[3];
+  int end[3];        ///< key_end
+  double length;     ///< OctoMap's float length
+  double t_last;     ///< past this nothing counts
+};
+
+/// In a brick where nothing matters (nothing in the ROI, nothing occupied): finds where
+/// the next brick that matters begins, walking bricks along the ray, and takes at once
+/// every traversal step that enters a voxel before it (advanceWhileBelow per axis:
+/// OctoMap's steps are the merge of the axes' border crossings ordered by t, so those
+/// steps are, per axis, the additions while t_max < T; the same state as stepping one by
+/// one). The jump stops `margin` short of that brick (far more than the rounding of
+/// these distances, ~1e-13 m) and two voxels short of the segment's end, so no jumped
+/// step is the end voxel or trips OctoMap's length rule.
+/// \return 1: nothing on the rest of the ray counts (stop it); 0: continue from t, k.
+template <typename CodeT>
+int jumpEmpty(const Bricks<CodeT>& bricks, const JumpRay& ray, double res, double margin,
+              double t_entry, double t[3], int k[3])
+{
+  int b[3] = {k[0] >> kBrickShift, k[1] >> kBrickShift, k[2] >> kBrickShift};
+  double tc[3], tc_step[3]; // where the ray leaves brick b per axis, and per brick
+  for (int a = 0; a < 3; ++a) {
+    if (ray.step[a] == 0) {
+      tc[a] = tc_step[a] = std::numeric_limits<double>::infinity();
+      continue;
+    }
+    const int key = ray.step[a] > 0 ? (b[a] + 1) << kBrickShift : b[a] << kBrickShift;
+    tc[a] = ((key - rt::kTreeMaxVal) * res - ray.o[a]) * ray.inv_dir[a];
+    tc_step[a] = (1 << kBrickShift) * res * std::fabs(ray.inv_dir[a]);
+  }
+  const double limit = std::min(ray.t_last, ray.length) + margin;
+  double t_next = std::numeric_limits<double>::infinity();
+  for (;;) {
+    const int a = tc[0] < tc[1] ? (tc[0] < tc[2] ? 0 : 2) : (tc[1] < tc[2] ? 1 : 2);
+    if (tc[a] > limit)
+      break;
+    b[a] += ray.step[a];
+    if (brickMatters(bricks, b)) {
+      t_next = tc[a];
+      break;
+    }
+    tc[a] += tc_step[a];
+  }
+  double target;
+  if (t_next < std::numeric_limits<double>::infinity()) {
+    target = t_next - margin;
+  } else if (ray.t_last < ray.length) {
+    return 1; // past the ROI (or the snapshot) before anything matters
+  } else {
+    // The segment ends where nothing matters, and so does its end voxel unless
+    // rounding put that next door.
+    if (!(bricks.code(ray.end[0], ray.end[1], ray.end[2]) & (kInRoi | kOccupied)))
+      return 1;
+    target = ray.length;
+  }
+  target = std::min(target, ray.length - 2.0 * res);
+  if (target > t_entry)
+    for (int a = 0; a < 3; ++a)
+      k[a] += static_cast<int>(rt::advanceWhileBelow(t[a], ray.dt[a], target)) * ray.step[a];
+  return 0;
+}
+
+template <typename CodeT>
+ViewGain computeFast(const Snapshot& snap, const Bricks<CodeT>& bricks,
+                     const GainConfig& config, const ImagePlane& plane,
+                     const std::vector<Eigen::Vector3d>& dirs, ThreadScratch& scratch,
+                     const Viewpoint& view)
+{
+  ViewGain result;
+  if (snap.roi_bbox.empty())
+    return result; // no voxel centre inside the ROI
+  float origin[3];
+  rayOrigin(view, origin);
+  int key_origin[3];
+  if (!rt::coordToKeyChecked(snap.resolution_factor, origin, key_origin))
+    return result; // outside the octree: no ray
+  const Eigen::Matrix3d R = view.orientation.toRotationMatrix();
+  markRays(snap, config, plane, view, R, scratch.ray_marks);
+  RoiSeen& seen = scratch.seen;
+  seen.reset(snap.roi_bbox);
+  scratch.counts.assign(snap.values.size(), 0);
+  std::uint32_t* const counts = scratch.counts.data();
+  const double res = snap.resolution;
+  // Jumps stop this far (metres) short of the next brick that matters: far more than
+  // the traversal's rounding (~1e-13 m), far less than a voxel.
+  const double margin = 1e-4 * res;
+  // The table's bricks in metres.
+  Eigen::Vector3d table_lo, table_hi;
+  for (int a = 0; a < 3; ++a) {
+    table_lo[a] = ((bricks.b0[a] << kBrickShift) - rt::kTreeMaxVal) * res;
+    table_hi[a] = (((bricks.b0[a] + bricks.nb[a]) << kBrickShift) - rt::kTreeMaxVal) * res;
+  }
+  const ClipBox table_box = {{table_lo[0], table_lo[1], table_lo[2]},
+                             {table_hi[0], table_hi[1], table_hi[2]}};
+
+  const int n_rays = config.rays_x * config.rays_y;
+  for (int r = 0; r < n_rays; ++r) {
+    if (!scratch.ray_marks[static_cast<std::size_t>(r)])
+      continue;
+    float end[3];
+    rayEnd(R, view.position, dirs[static_cast<std::size_t>(r)], config.raycast_range_m, end);
+    int key_end[3];
+    if (!rt::coordToKeyChecked(snap.resolution_factor, end, key_end))
+      continue;
+    const Segment seg(origin, end);
+    const double t_stop = clipDistance(snap, seg);
+    if (t_stop < 0.0)
+      continue; // misses the ROI
+    ++result.rays_cast;
+
+    rt::RaySetup s;
+    if (!rt::setupRay(origin, end, key_origin, key_end, res, s)) {
+      Cursor<CodeT> cursor;
+      loadBrick(bricks, seen, key_end[0], key_end[1], key_end[2], cursor); // one voxel
+      visitVoxel(cursor, counts, key_end[0], key_end[1], key_end[2]);
+      continue;
+    }
+    double tx = s.t_max[0], ty = s.t_max[1], tz = s.t_max[2];
+    const double dx = s.t_delta[0], dy = s.t_delta[1], dz = s.t_delta[2];
+    const int sx = s.step[0], sy = s.step[1], sz = s.step[2];
+    const int ex = key_end[0], ey = key_end[1], ez = key_end[2];
+    const double length = s.length;
+    // key & 7 right after a step into a new brick, per axis.
+    const int wrap_x = sx > 0 ? 0 : kBrickMask, wrap_y = sy > 0 ? 0 : kBrickMask,
+              wrap_z = sz > 0 ? 0 : kBrickMask;
+    int kx = key_origin[0], ky = key_origin[1], kz = key_origin[2];
+
+    // Outside the snapshot's table nothing counts or stops a ray: start the walk where
+    // the segment enters it, stop it where it leaves.
+    double t_last = t_stop;
+    double t_first = 0.0;
+    {
+      double s0, s1;
+      if (!seg.clip(table_box, s0, s1))
+        continue;
+      const double len = seg.length();
+      if (s1 < 1.0)
+        t_last = std::min(t_last, s1 * len + margin);
+      t_first = s0 * len - margin;
+      if (t_first > t_last)
+        continue;
+    }
+    JumpRay jr;
+    for (int a = 0; a < 3; ++a) {
+      jr.o[a] = origin[a];
+      jr.inv_dir[a] = s.direction[a] != 0.0f ? 1.0 / s.direction[a] : 0.0;
+      jr.dt[a] = s.t_delta[a];
+      jr.step[a] = s.step[a];
+      jr.end[a] = key_end[a];
+    }
+    jr.length = length;
+    jr.t_last = t_last;
+    Cursor<CodeT> cursor;
+    const double target = std::min(t_first, length - 2.0 * res);
+    if (target > 0.0) {
+      // Every step that enters a voxel before `target` at once (advanceWhileBelow):
+      // OctoMap's steps are the merge of the three axes' border crossings ordered by t,
+      // so those are, per axis, the additions while t_max < target: the same state as
+      // stepping one by one. None of them reaches the end voxel (two voxels short).
+      kx += static_cast<int>(rt::advanceWhileBelow(tx, dx, target)) * sx;
+      ky += static_cast<int>(rt::advanceWhileBelow(ty, dy, target)) * sy;
+      kz += static_cast<int>(rt::advanceWhileBelow(tz, dz, target)) * sz;
+      loadBrick(bricks, seen, kx, ky, kz, cursor); // its voxel lies outside the table
+    } else {
+      loadBrick(bricks, seen, kx, ky, kz, cursor);
+      if (!visitVoxel(cursor, counts, kx, ky, kz))
+        continue; // the camera's voxel is occupied
+    }
+    bool reached_end = false;
+    for (;;) {
+      // OctoMap's step (ray_traversal.h), with the brick change per axis.
+      double t_entry;
+      bool new_brick;
+      if (tx < ty) {
+        if (tx < tz) {
+          kx += sx;
+          t_entry = tx;
+          tx += dx;
+          new_brick = (kx & kBrickMask) == wrap_x;
+        } else {
+          kz += sz;
+          t_entry = tz;
+          tz += dz;
+          new_brick = (kz & kBrickMask) == wrap_z;
+        }
+      } else {
+        if (ty < tz) {
+          ky += sy;
+          t_entry = ty;
+          ty += dy;
+          new_brick = (ky & kBrickMask) == wrap_y;
+        } else {
+          kz += sz;
+          t_entry = tz;
+          tz += dz;
+          new_brick = (kz & kBrickMask) == wrap_z;
+        }
+      }
+      if (kx == ex && ky == ey && kz == ez) {
+        reached_end = true;
+        break;
+      }
+      if (std::min(std::min(tx, ty), tz) > length) {
+        reached_end = true; // OctoMap's stop for rays that miss the end voxel
+        break;
+      }
+      if (t_entry > t_last)
+        break; // past the ROI or the table: nothing more counts
+      if (new_brick) {
+        loadBrick(bricks, seen, kx, ky, kz, cursor);
+        if (cursor.empty) {
+          double t[3] = {tx, ty, tz};
+          int k[3] = {kx, ky, kz};
+          if (jumpEmpty(bricks, jr, res, margin, t_entry, t, k))
+            break;
+          tx = t[0];
+          ty = t[1];
+          tz = t[2];
+          if (k[0] != kx || k[1] != ky || k[2] != kz) {
+            kx = k[0];
+            ky = k[1];
+            kz = k[2];
+            loadBrick(bricks, seen, kx, ky, kz, cursor); // where nothing matters
+          }
+          continue;
+        }
+      }
+      if (!cursor.empty && !visitVoxel(cursor, counts, kx, ky, kz))
+        break; // occupied
+    }
+    if (reached_end) {
+      loadBrick(bricks, seen, ex, ey, ez, cursor);
+      visitVoxel(cursor, counts, ex, ey, ez);
+    }
+  }
+
+  for (std::size_t v = 0; v < snap.values.size(); ++v) {
+    result.voxels_seen += counts[v];
+    result.gain += static_cast<double>(counts[v]) * snap.values[v].entropy;
+  }
+  result.unknown_seen = counts[0];
+  return result;
+}
+
+template <typename CodeT>
+ViewGain computeWith(const Snapshot& snap, const Bricks<CodeT>& bricks,
+                     const GainConfig& config, const ImagePlane& plane,
+                     const std::vector<Eigen::Vector3d>& dirs, ThreadScratch& scratch,
+                     const Viewpoint& view)
+{
+  if (config.visibility_weighted)
+    return computeGeneral<CodeT, true>(snap, bricks, config, plane, dirs, scratch, view);
+  if (!snap.roi_mode)
+    return computeGeneral<CodeT, false>(snap, bricks, config, plane, dirs, scratch, view);
+  return computeFast<CodeT>(snap, bricks, config, plane, dirs, scratch, view);
+}
+
 } // namespace
+
+struct InformationGain::Impl {
+  Snapshot snapshot;
+  std::vector<Eigen::Vector3d> dirs_C; ///< the rays (per config)
+  ImagePlane plane;
+  std::vector<ThreadScratch> scratch;
+
+  ViewGain compute(const GainConfig& config, ThreadScratch& s, const Viewpoint& view) const
+  {
+    switch (snapshot.code_bytes) {
+    case 1:
+      return computeWith(snapshot, snapshot.bricks8, config, plane, dirs_C, s, view);
+    case 2:
+      return computeWith(snapshot, snapshot.bricks16, config, plane, dirs_C, s, view);
+    default:
+      return computeWith(snapshot, snapshot.bricks32, config, plane, dirs_C, s, view);
+    }
+  }
+};
 
 // ---------------------------------------------------------------------------------------
 
@@ -788,8 +848,8 @@ void GainConfig::validate() const
 
 InformationGain::InformationGain() : impl_(std::make_unique<Impl>())
 {
-  impl_->dirs_C = gain_detail::rayDirectionsBody(config_);
-  impl_->plane = gain_detail::imagePlane(config_);
+  impl_->dirs_C = rayDirectionsBody(config_);
+  impl_->plane = imagePlane(config_);
 }
 
 InformationGain::~InformationGain() = default;
@@ -798,10 +858,10 @@ void InformationGain::setConfig(const GainConfig& config)
 {
   config.validate();
   if (config.visibility_weighted != config_.visibility_weighted)
-    dirty_ = true; // the snapshot holds more with visibility weighting
+    dirty_ = true; // the snapshot holds every known voxel with visibility weighting
   config_ = config;
-  impl_->dirs_C = gain_detail::rayDirectionsBody(config_);
-  impl_->plane = gain_detail::imagePlane(config_);
+  impl_->dirs_C = rayDirectionsBody(config_);
+  impl_->plane = imagePlane(config_);
 }
 
 void InformationGain::setInputMap(std::shared_ptr<const OccupancyMap> map)
@@ -817,8 +877,9 @@ void InformationGain::setRoi(const Roi& roi)
   for (const Box& b : roi.boxes())
     if (!b.center.allFinite() || !b.size.allFinite() || (b.size.array() < 0.0).any()) {
       std::ostringstream s;
-      s << "InformationGain::setRoi: box '" << b.name << "' centre (" << b.center.transpose()
-        << ") size (" << b.size.transpose() << ") must be finite with sizes >= 0";
+      s << "InformationGain::setRoi: box '" << b.name << "' with centre ("
+        << b.center.transpose() << ") and size (" << b.size.transpose()
+        << ") must be finite with sizes >= 0 (metres)";
       throw InvalidArgumentError(s.str());
     }
   roi_ = roi;
@@ -842,22 +903,24 @@ void InformationGain::update()
     throw InvalidArgumentError("InformationGain::update: no map set (setInputMap)");
   const auto start = Clock::now();
   stats_.map_revision = map_->revision();
-  impl_->build(*map_, roi_, config_);
+  impl_->snapshot.build(map_->getOcTree(), roi_, config_.visibility_weighted);
   dirty_ = false;
   stats_.update_ms = msSince(start);
-  stats_.bricks = impl_->brickCount();
-  stats_.values = impl_->values.size();
-  stats_.leaves = impl_->leaves.size();
+  stats_.bricks = impl_->snapshot.brick_count;
+  stats_.values = impl_->snapshot.values.size();
+  stats_.leaves = impl_->snapshot.leaf_count;
 }
 
 void InformationGain::ensureSnapshot()
 {
   if (!map_)
     throw InvalidArgumentError("InformationGain::compute: no map set (setInputMap)");
-  stats_.update_ms = 0.0;
-  if (dirty_ || !impl_->built || map_->revision() != stats_.map_revision ||
-      &map_->getOcTree() != impl_->tree)
+  stats_.rebuilt = false;
+  if (dirty_ || !impl_->snapshot.built || map_->revision() != stats_.map_revision ||
+      &map_->getOcTree() != impl_->snapshot.tree) {
     update();
+    stats_.rebuilt = true;
+  }
 }
 
 void InformationGain::compute(const std::vector<Viewpoint>& candidates,
@@ -866,26 +929,17 @@ void InformationGain::compute(const std::vector<Viewpoint>& candidates,
   ensureSnapshot();
   const auto start = Clock::now();
   out.assign(candidates.size(), ViewGain());
-  const int threads = std::max(
-      1, std::min(threads_ > 0 ? threads_ : omp_get_max_threads(),
-                  static_cast<int>(candidates.size())));
+  const int threads =
+      std::max(1, std::min(threads_ > 0 ? threads_ : omp_get_max_threads(),
+                           static_cast<int>(candidates.size())));
   if (impl_->scratch.size() < static_cast<std::size_t>(threads))
     impl_->scratch.resize(static_cast<std::size_t>(threads));
-  const Impl& impl = *impl_;
   const auto n = static_cast<std::int64_t>(candidates.size());
-  const bool weighted = config_.visibility_weighted;
 #pragma omp parallel for num_threads(threads) schedule(dynamic, 1)
-  for (std::int64_t i = 0; i < n; ++i) {
-    ThreadScratch& scratch = impl_->scratch[static_cast<std::size_t>(omp_get_thread_num())];
-    const Viewpoint& view = candidates[static_cast<std::size_t>(i)];
-    ViewGain& g = out[static_cast<std::size_t>(i)];
-    if (impl.wide)
-      g = weighted ? computeOne<std::uint32_t, true>(impl, impl.wide_bricks, config_, scratch, view)
-                   : computeOne<std::uint32_t, false>(impl, impl.wide_bricks, config_, scratch, view);
-    else
-      g = weighted ? computeOne<std::uint16_t, true>(impl, impl.narrow, config_, scratch, view)
-                   : computeOne<std::uint16_t, false>(impl, impl.narrow, config_, scratch, view);
-  }
+  for (std::int64_t i = 0; i < n; ++i)
+    out[static_cast<std::size_t>(i)] =
+        impl_->compute(config_, impl_->scratch[static_cast<std::size_t>(omp_get_thread_num())],
+                       candidates[static_cast<std::size_t>(i)]);
   stats_.gain_ms = msSince(start);
   stats_.candidates = candidates.size();
   stats_.rays_cast = 0;
@@ -896,7 +950,7 @@ void InformationGain::compute(const std::vector<Viewpoint>& candidates,
 ViewGain InformationGain::compute(const Viewpoint& candidate)
 {
   std::vector<ViewGain> out;
-  compute({candidate}, out);
+  compute(std::vector<Viewpoint>{candidate}, out);
   return out.front();
 }
 

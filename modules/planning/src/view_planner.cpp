@@ -138,7 +138,7 @@ void AttentionNbvPlanner::compute(NextViewResult& out)
   out.stop = max_gain < stop_gain_;
   out.sample_ms = sample_ms;
   out.gain_ms = gain_ms;
-  out.update_ms = gain_.getLastStats().update_ms;
+  out.update_ms = gain_.getLastStats().rebuilt ? gain_.getLastStats().update_ms : 0.0;
   out.total_ms = msSince(start);
 }
 
@@ -215,7 +215,7 @@ void PredefinedPlanner::compute(NextViewResult& out)
   const auto gain_start = Clock::now();
   const ViewGain gain = gain_.compute(centres[chosen]);
   out.gain_ms = msSince(gain_start);
-  out.update_ms = gain_.getLastStats().update_ms;
+  out.update_ms = gain_.getLastStats().rebuilt ? gain_.getLastStats().update_ms : 0.0;
   ++step_;
 
   out.candidates = uncomputed(centres);
@@ -243,7 +243,7 @@ void RandomPlanner::compute(NextViewResult& out)
   const auto gain_start = Clock::now();
   const ViewGain gain = gain_.compute(views_[chosen]);
   out.gain_ms = msSince(gain_start);
-  out.update_ms = gain_.getLastStats().update_ms;
+  out.update_ms = gain_.getLastStats().rebuilt ? gain_.getLastStats().update_ms : 0.0;
 
   out.candidates = uncomputed(views_);
   out.candidates[chosen].gain = gain;

@@ -12,6 +12,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <limits>
 #include <type_traits>
 
@@ -117,6 +119,62 @@ inline bool setupRay(const float origin[3], const float end[3], const int key_or
     }
   }
   return true;
+}
+
+/// \brief Adds `delta` to `t` while t < target, with the result bit for bit that of
+/// as many sequential double additions (`while (t < target) t += delta;`): how the DDA
+/// below advances one axis's t_max past a distance at once.
+///
+/// Within a binade [2^(e-1), 2^e) doubles are the multiples of one ulp, so every
+/// addition there adds the same rounded increment (delta rounded to a multiple of the
+/// ulp; except when delta's remainder is exactly half an ulp, where ties-to-even
+/// alternates: those additions are made one by one). Runs of additions that stay in a
+/// binade are therefore one multiplication; only the additions that leave a binade are
+/// made as such. O(binades crossed) instead of O(additions).
+/// \pre delta > 0 and finite, and not below t's ulp (every addition changes t).
+/// \return the number of additions.
+inline long long advanceWhileBelow(double& t, double delta, double target)
+{
+  long long n = 0;
+  const double inv_delta = 1.0 / delta; // only to estimate counts (corrected exactly)
+  while (t < target) {
+    std::uint64_t bits;
+    std::memcpy(&bits, &t, sizeof bits);
+    const int biased = static_cast<int>((bits >> 52) & 0x7ff); // t in [2^(b-1023), 2^(b-1022))
+    const std::uint64_t top_bits = static_cast<std::uint64_t>(biased + 1) << 52;
+    double top;
+    std::memcpy(&top, &top_bits, sizeof top);
+    // Few additions left in this binade: make them (cheaper than the bulk step).
+    if (t > 0.0 && biased >= 54 && biased <= 2000 && // normal, and so is its ulp
+        (std::min(target, top) - t) * inv_delta > 8.0) {
+      const std::uint64_t ulp_bits = static_cast<std::uint64_t>(biased - 52) << 52;
+      const std::uint64_t inv_ulp_bits = static_cast<std::uint64_t>(2098 - biased) << 52;
+      double ulp, inv_ulp;
+      std::memcpy(&ulp, &ulp_bits, sizeof ulp);
+      std::memcpy(&inv_ulp, &inv_ulp_bits, sizeof inv_ulp);
+      const double q = delta * inv_ulp; // delta / ulp, exact: a power-of-two scaling
+      // floor(q) by truncation (q > 0); exact halves are the ties-to-even case.
+      const double whole = q < 0x1p52 ? static_cast<double>(static_cast<long long>(q)) : q;
+      if (q < 0x1p52 && q - whole != 0.5) {
+        const double step = (q - whole < 0.5 ? whole : whole + 1.0) * ulp; // exact
+        const double limit = std::min(target, top);
+        // The smallest m >= 1 with t + m step >= limit (sums below `top` are exact):
+        // estimated, then corrected by exact tests.
+        double m = static_cast<double>(static_cast<long long>((limit - t) * inv_delta)) + 1.0;
+        while (m > 1.0 && t + (m - 1.0) * step >= limit)
+          m -= 1.0;
+        while (t + m * step < limit)
+          m += 1.0;
+        if (m > 1.0) { // the first m - 1 additions stay in the binade
+          t += (m - 1.0) * step;
+          n += static_cast<long long>(m - 1.0);
+        }
+      }
+    }
+    t += delta; // one real addition: it may leave the binade or reach the target
+    ++n;
+  }
+  return n;
 }
 
 /// \brief The voxels of the segment origin -> end, end voxel excluded, in order: 3D DDA

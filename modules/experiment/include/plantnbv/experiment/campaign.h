@@ -1,0 +1,96 @@
+#pragma once
+/// \file campaign.h
+/// \brief A campaign: many trials over plants, yaws, planners and study variants (the
+/// paper's section 3 study and its sensitivity analyses), expanded into a list of trial
+/// specifications with stable ids and seeds.
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <plantnbv/experiment/trial.h>
+
+namespace plantnbv {
+
+/// \brief A plant of a campaign: generated from a seed, or a model file (paths are
+/// kept as given; the app loads them).
+struct CampaignPlant {
+  std::string name;                  ///< in trial ids: "plant03" or the model's name
+  std::optional<std::uint64_t> seed; ///< a generated tomato plant
+  std::optional<double> stage;       ///< its growth stage (default: the generator's)
+  bool simplified = false;           ///< half of the leaflets removed
+  std::string model;                 ///< or a mesh / cloud file
+  std::string labels;                ///< part label rules of a mesh model
+  std::string rois;                  ///< ROI file of a model
+};
+
+/// \brief A planner of a study: NBV with an attention ROI, pre-defined with its
+/// patterns (one trial per pattern, averaged as one planner in the report), or random.
+struct CampaignPlanner {
+  std::string name; ///< e.g. "nbv-leaf-nodes"; in trial ids
+  PlannerKind kind = PlannerKind::nbv;
+  std::string attention; ///< nbv: whole-plant, main-stem, leaf-nodes, fruit or a ROI file
+  std::vector<int> patterns; ///< predefined: 1-4 each
+};
+
+/// \brief A study: planners run on every plant and yaw, over the variants its lists
+/// give (each list left empty takes the campaign's value: one variant).
+struct CampaignStudy {
+  std::string name; ///< "main", "occlusion", ...; first part of trial ids
+  std::vector<CampaignPlanner> planners;
+  std::vector<bool> simplified; ///< plants with half of their leaflets removed
+  std::vector<int> candidates;  ///< candidates per step (multiples of the grid cells)
+  std::vector<double> resolutions_m; ///< map resolution = rho
+};
+
+/// \brief A whole campaign (plain values; apps read it from YAML).
+struct CampaignDefinition {
+  std::string name;
+  std::uint64_t seed = 0; ///< trial seeds derive from it and the trial id
+  std::vector<CampaignPlant> plants;
+  std::vector<double> yaws_deg{0.0}; ///< turns of each plant about its stem
+  int views = 10;                    ///< view budget, v0 included
+  int candidates = 27;
+  double resolution_m = 0.003;
+  int repetitions = 1;
+  std::vector<std::string> levels; ///< evaluation levels; empty: all the plant has
+  std::vector<CampaignStudy> studies;
+
+  /// \throws InvalidArgumentError naming the field by its path (e.g.
+  /// "studies[1].planners[0].patterns[2]") and the bad value.
+  void validate() const;
+};
+
+/// \brief One trial of a campaign.
+struct TrialSpec {
+  /// Stable and readable: study/planner[-pK]/[variant/]plant/yawDDD/repR, e.g.
+  /// "main/nbv-leaf-nodes/plant03/yaw090/rep0", "main/predefined-p2/plant03/yaw090/rep0",
+  /// "candidates/nbv-leaf-nodes/c45/plant03/yaw090/rep0".
+  std::string id;
+  std::string study;
+  std::string variant; ///< e.g. "c45", "res5mm", "simplified"; empty for one variant
+  std::string planner; ///< the planner's name (patterns of one predefined share it)
+  PlannerKind kind = PlannerKind::nbv;
+  std::string attention;       ///< nbv only
+  int pattern = 0;             ///< predefined only, 1-4
+  std::size_t plant_index = 0; ///< into CampaignDefinition::plants
+  std::string plant;           ///< its name
+  bool simplified = false;
+  double yaw_deg = 0.0;
+  int repetition = 0;
+  int candidates = 27;
+  double resolution_m = 0.003;
+  int views = 10;
+  std::uint64_t seed = 0; ///< deriveSeed(campaign seed, hash of the id)
+};
+
+/// \brief FNV-1a, 64 bits, of a trial id (stable across platforms and runs).
+std::uint64_t trialIdHash(const std::string& id);
+
+/// \brief All trials of the campaign, study by study, in a fixed order. Ids are unique
+/// and seeds depend only on the campaign seed and the id.
+/// \throws InvalidArgumentError if the definition is invalid.
+std::vector<TrialSpec> expandCampaign(const CampaignDefinition& definition);
+
+} // namespace plantnbv

@@ -1,0 +1,42 @@
+#pragma once
+/// \file campaign_report.h
+/// \brief Statistics of a campaign's results: the mean curves with 95% confidence
+/// intervals (curves.csv) and the paper's summary numbers (summary.md), section 4.
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include <plantnbv/experiment/result_store.h>
+#include <plantnbv/experiment/statistics.h>
+
+namespace plantnbv {
+
+/// \brief One row of curves.csv: a study variant's planner at one level after `view`
+/// views (1 = v0 only). The samples are the trials' units: one per plant, yaw and
+/// repetition; the patterns of a pre-defined planner are averaged into one unit first.
+/// A trial that stopped early keeps its last scores for the remaining views.
+struct CurveRow {
+  std::string study, variant, planner, level;
+  int view = 0;
+  SampleSummary f1, precision, recall, chamfer;
+};
+
+/// \brief The rows for all done trials (failed ones are left out), ordered by study
+/// ("main" first), variant, planner, level (in the trials' order), view.
+std::vector<CurveRow> campaignCurves(const std::vector<StoredTrial>& trials);
+
+/// \brief Writes curves.csv: study,variant,planner,level,view, then for each of f1,
+/// precision, recall, chamfer: <m>_mean,<m>_sd,<m>_n,<m>_ci_low,<m>_ci_high (95%,
+/// Student's t; empty where undefined). \throws IoError if it cannot.
+void writeCurvesCsv(const std::filesystem::path& path, const std::vector<CurveRow>& rows);
+
+/// \brief Writes OUT/curves.csv and OUT/summary.md: views to reach F1 0.8 and 0.9 per
+/// planner and level (from the mean curve, and the median over units), the relative F1
+/// gain of each NBV planner (kind nbv, named "nbv-...") over the "predefined" and
+/// "random" planners after 3 views, the sensitivity studies beside the main study, and
+/// the paper's own numbers beside ours. \throws IoError if it cannot write.
+void writeCampaignReport(const std::vector<StoredTrial>& trials,
+                         const std::filesystem::path& out_dir, const std::string& title);
+
+} // namespace plantnbv

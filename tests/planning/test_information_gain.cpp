@@ -1,0 +1,376 @@
+#include <cmath>
+#include <memory>
+#include <set>
+#include <string>
+#include <tuple>
+#include <vector>
+
+#include <gtest/gtest.h>
+#include <octomap/OcTree.h>
+#include <pcl/point_cloud.h>
+#include <pcl/point_types.h>
+
+#include <plantnbv/common/error.h>
+#include <plantnbv/octree/occupancy_map.h>
+#include <plantnbv/planning/information_gain.h>
+
+#include "planning_test_util.h"
+
+using namespace plantnbv;
+using test::lookingAlong;
+
+namespace {
+
+constexpr double kRes = 0.003;
+
+/// The voxel centre of key k (OctoMap's keyToCoord).
+double centre(int k)
+{
+  return (k - 32768 + 0.5) * kRes;
+}
+
+/// A plane of points at x = x0 spanning y, z in [-half, half] around (y0, z0), 1 mm
+/// apart: every voxel of one layer gets a hit.
+CloudXYZ wall(double x0, double y0, double z0, double half)
+{
+  CloudXYZ cloud;
+  const int n = static_cast<int>(2.0 * half / 0.001);
+  for (int i = 0; i <= n; ++i)
+    for (int j = 0; j <= n; ++j)
+      cloud.push_back(pcl::PointXYZ(static_cast<float>(x0),
+                                    static_cast<float>(y0 - half + 0.001 * i),
+                                    static_cast<float>(z0 - half + 0.001 * j)));
+  return cloud;
+}
+
+/// The gains of `views` with InformationGain at `threads`.
+std::vector<ViewGain> fastGains(std::shared_ptr<const OccupancyMap> map, const Roi& roi,
+                                const GainConfig& config, const std::vector<Viewpoint>& views,
+                                int threads)
+{
+  InformationGain gain;
+  gain.setInputMap(std::move(map));
+  gain.setRoi(roi);
+  gain.setConfig(config);
+  gain.setNumberOfThreads(threads);
+  std::vector<ViewGain> out;
+  gain.compute(views, out);
+  return out;
+}
+
+std::vector<ViewGain> referenceGains(const OccupancyMap& map, const Roi& roi,
+                                     const GainConfig& config,
+                                     const std::vector<Viewpoint>& views)
+{
+  std::vector<ViewGain> out(views.size());
+#pragma omp parallel for schedule(dynamic, 1)
+  for (std::size_t i = 0; i < views.size(); ++i)
+    out[i] = referenceInformationGain(map, roi, config, views[i]);
+  return out;
+}
+
+void expectSameGains(const std::vector<ViewGain>& fast, const std::vector<ViewGain>& ref,
+                     const std::string& what)
+{
+  ASSERT_EQ(fast.size(), ref.size());
+  for (std::size_t i = 0; i < fast.size(); ++i) {
+    EXPECT_EQ(fast[i].voxels_seen, ref[i].voxels_seen) << what << " candidate " << i;
+    EXPECT_EQ(fast[i].unknown_seen, ref[i].unknown_seen) << what << " candidate " << i;
+    EXPECT_NEAR(fast[i].gain, ref[i].gain, 1e-9 * std::max(1.0, ref[i].gain))
+        << what << " candidate " << i;
+  }
+}
+
+} // namespace
+
+TEST(InformationGain, OccupancyEntropyValues)
+{
+  EXPECT_EQ(occupancyEntropy(0.0), 0.0);
+  EXPECT_EQ(occupancyEntropy(1.0), 0.0);
+  EXPECT_EQ(occupancyEntropy(0.5), 1.0);
+  EXPECT_NEAR(occupancyEntropy(0.7), 0.8812908992306927, 1e-15);
+  EXPECT_NEAR(occupancyEntropy(0.12), 0.5293608652873644, 1e-15);
+  EXPECT_DOUBLE_EQ(occupancyEntropy(0.3), occupancyEntropy(0.7));
+  EXPECT_TRUE(std::isnan(occupancyEntropy(-0.1)));
+  EXPECT_TRUE(std::isnan(occupancyEntropy(1.5)));
+  EXPECT_TRUE(std::isnan(occupancyEntropy(std::nan(""))));
+}
+
+TEST(InformationGain, UnknownMapGainCountsTheDistinctFrustumVoxelsInTheRoi)
+{
+  const auto map = std::make_shared<const OccupancyMap>();
+  const Viewpoint view = lookingAlong(Eigen::Vector3d(0.61, 0.02, 1.1), 0.1);
+  const Roi roi({Box(Eigen::Vector3d(1.0, 0.0, 1.15), Eigen::Vector3d(0.3, 0.3, 0.7))});
+  GainConfig config;
+  config.rays_x = 40;
+  config.rays_y = 30;
+
+  // The voxels, counted here with OctoMap itself from the documented ray geometry.
+  const octomap::OcTree& tree = map->getOcTree();
+  const Eigen::Matrix3d R = view.orientation.toRotationMatrix();
+  const double th = std::tan(0.5 * config.horizontal_fov_rad);
+  const double tv = std::tan(0.5 * config.vertical_fov_rad);
+  const octomap::point3d origin(static_cast<float>(view.position.x()),
+                                static_cast<float>(view.position.y()),
+                                static_cast<float>(view.position.z()));
+  std::set<std::tuple<int, int, int>> voxels;
+  octomap::KeyRay ray;
+  for (int j = 0; j < config.rays_y; ++j)
+    for (int i = 0; i < config.rays_x; ++i) {
+      const double x_o = th * ((2.0 * i + 1.0) / config.rays_x - 1.0);
+      const double y_o = tv * ((2.0 * j + 1.0) / config.rays_y - 1.0);
+      const Eigen::Vector3d d = Eigen::Vector3d(1.0, -x_o, -y_o).normalized();
+      float e[3];
+      for (int a = 0; a < 3; ++a)
+        e[a] = static_cast<float>(view.position[a] +
+                                  config.raycast_range_m *
+                                      (R(a, 0) * d[0] + R(a, 1) * d[1] + R(a, 2) * d[2]));
+      const octomap::point3d end(e[0], e[1], e[2]);
+      ASSERT_TRUE(tree.computeRayKeys(origin, end, ray));
+      std::vector<octomap::OcTreeKey> keys(ray.begin(), ray.end());
+      keys.push_back(tree.coordToKey(end));
+      for (const auto& k : keys)
+        if (roi.contains(Eigen::Vector3d(centre(k[0]), centre(k[1]), centre(k[2]))))
+          voxels.insert({k[0], k[1], k[2]});
+    }
+  ASSERT_GT(voxels.size(), 10000u);
+
+  InformationGain gain;
+  gain.setInputMap(map);
+  gain.setRoi(roi);
+  gain.setConfig(config);
+  const ViewGain g = gain.compute(view);
+  EXPECT_EQ(g.voxels_seen, voxels.size());
+  EXPECT_EQ(g.unknown_seen, voxels.size());
+  EXPECT_EQ(g.gain, static_cast<double>(voxels.size())); // 1 bit each
+  const ViewGain ref = referenceInformationGain(*map, roi, config, view);
+  EXPECT_EQ(ref.voxels_seen, voxels.size());
+  EXPECT_EQ(ref.gain, g.gain);
+  EXPECT_EQ(ref.rays_cast, 1200u);
+  EXPECT_LE(g.rays_cast, 1200u);
+}
+
+TEST(InformationGain, CandidateLookingAwayFromTheRoiGainsNothing)
+{
+  const auto map = std::make_shared<const OccupancyMap>();
+  const Roi roi({Box(Eigen::Vector3d(1.0, 0.0, 1.15), Eigen::Vector3d(0.3, 0.3, 0.7))});
+  InformationGain gain;
+  gain.setInputMap(map);
+  gain.setRoi(roi);
+  const ViewGain away = gain.compute(lookingAlong(Eigen::Vector3d(0.6, 0.0, 1.1), M_PI));
+  EXPECT_EQ(away.gain, 0.0);
+  EXPECT_EQ(away.voxels_seen, 0u);
+  EXPECT_EQ(away.rays_cast, 0u);
+  EXPECT_EQ(referenceInformationGain(*map, roi, GainConfig(),
+                                     lookingAlong(Eigen::Vector3d(0.6, 0.0, 1.1), M_PI))
+                .gain,
+            0.0);
+  // Beyond the range: 0.75 m, Table 1.
+  const ViewGain far = gain.compute(lookingAlong(Eigen::Vector3d(-0.2, 0.0, 1.1), 0.0));
+  EXPECT_EQ(far.gain, 0.0);
+}
+
+TEST(InformationGain, VoxelsBehindAWallDoNotCount)
+{
+  auto map = std::make_shared<OccupancyMap>();
+  map->insert(wall(0.9, 0.0, 1.1, 0.3), Eigen::Vector3d(0.3, 0.0, 1.1));
+  const Viewpoint view = lookingAlong(Eigen::Vector3d(0.5, 0.0, 1.1), 0.0);
+  const Roi behind({Box(Eigen::Vector3d(1.1, 0.0, 1.1), Eigen::Vector3d(0.2, 0.2, 0.2))});
+  const Roi before({Box(Eigen::Vector3d(0.8, 0.0, 1.1), Eigen::Vector3d(0.1, 0.1, 0.1))});
+  const Roi across({Box(Eigen::Vector3d(0.9, 0.0, 1.1), Eigen::Vector3d(0.1, 0.1, 0.1))});
+  const GainConfig config;
+
+  InformationGain gain;
+  gain.setInputMap(map);
+  gain.setRoi(behind);
+  EXPECT_EQ(gain.compute(view).gain, 0.0);
+  EXPECT_EQ(referenceInformationGain(*map, behind, config, view).gain, 0.0);
+  // Without the wall the same ROI is worth a lot.
+  InformationGain empty;
+  empty.setInputMap(std::make_shared<const OccupancyMap>());
+  empty.setRoi(behind);
+  EXPECT_GT(empty.compute(view).gain, 1000.0);
+
+  // Free voxels in front of the wall are known (low entropy); the wall's voxels count.
+  for (const Roi& roi : {before, across}) {
+    gain.setRoi(roi);
+    const ViewGain g = gain.compute(view);
+    const ViewGain ref = referenceInformationGain(*map, roi, config, view);
+    EXPECT_GT(g.gain, 0.0);
+    EXPECT_EQ(g.voxels_seen, ref.voxels_seen);
+    EXPECT_EQ(g.unknown_seen, 0u);
+    EXPECT_NEAR(g.gain, ref.gain, 1e-9 * ref.gain);
+  }
+}
+
+TEST(InformationGain, GainFallsOnceTheViewIsInserted)
+{
+  auto map = std::make_shared<OccupancyMap>();
+  const Roi roi = wholePlantRoi(test::plantWorld().plant);
+  const Viewpoint view = test::paperV0();
+  InformationGain gain;
+  gain.setInputMap(map);
+  gain.setRoi(roi);
+  const ViewGain before = gain.compute(view);
+  test::insertView(*map, view);
+  const ViewGain after = gain.compute(view); // rebuilt: the map's revision changed
+  EXPECT_TRUE(gain.getLastStats().rebuilt);
+  // Free voxels seen once still hold 0.97 bits (p = 0.4); most unknown ones are gone
+  // (some rays slip between the occupied voxels of a thin leaf: unknown behind it).
+  EXPECT_LT(after.gain, before.gain);
+  EXPECT_LT(static_cast<double>(after.unknown_seen), 0.7 * static_cast<double>(before.unknown_seen));
+  const ViewGain ref = referenceInformationGain(*map, roi, GainConfig(), view);
+  EXPECT_EQ(after.voxels_seen, ref.voxels_seen);
+  EXPECT_NEAR(after.gain, ref.gain, 1e-9 * ref.gain);
+  // Unchanged map: the snapshot is reused.
+  EXPECT_EQ(gain.compute(view).gain, after.gain);
+  EXPECT_FALSE(gain.getLastStats().rebuilt);
+}
+
+TEST(InformationGain, EqualsTheReferenceOnAPlantMapAtAnyThreadCount)
+{
+  const auto map = test::plantMap();
+  const Plant& plant = test::plantWorld().plant;
+  CylindricalSectorSampler sampler;
+  sampler.setSamplesPerCell(1);
+  Rng rng(3);
+  std::vector<Viewpoint> views;
+  sampler.sample(rng, views);
+  views.push_back(test::paperV0());
+  GainConfig config;
+  config.rays_x = 32;
+  config.rays_y = 24;
+  const std::pair<const char*, Roi> rois[] = {
+      {"whole_plant", wholePlantRoi(plant)},
+      {"main_stem", mainStemRoi(plant)},
+      {"leaf_nodes", leafNodeRoi(plant)},
+      {"no_roi", Roi()},
+  };
+  for (const auto& [name, roi] : rois) {
+    const std::vector<ViewGain> ref = referenceGains(*map, roi, config, views);
+    const std::vector<ViewGain> one = fastGains(map, roi, config, views, 1);
+    const std::vector<ViewGain> two = fastGains(map, roi, config, views, 2);
+    expectSameGains(one, ref, name);
+    double total = 0.0;
+    for (std::size_t i = 0; i < views.size(); ++i) {
+      EXPECT_EQ(one[i].gain, two[i].gain) << name; // bit for bit
+      EXPECT_EQ(one[i].voxels_seen, two[i].voxels_seen) << name;
+      EXPECT_EQ(one[i].rays_cast, two[i].rays_cast) << name;
+      total += one[i].gain;
+    }
+    EXPECT_GT(total, 0.0) << name;
+  }
+}
+
+TEST(InformationGain, EqualsTheReferenceAtTheDefaultRayGrid)
+{
+  const auto map = test::plantMap();
+  const Plant& plant = test::plantWorld().plant;
+  CylindricalSectorSampler sampler;
+  const std::vector<Viewpoint> views = {test::paperV0(), sampler.gridCellCentres()[4],
+                                        sampler.gridCellCentres()[6]};
+  const GainConfig config;
+  for (const Roi& roi : {wholePlantRoi(plant), leafNodeRoi(plant)})
+    expectSameGains(fastGains(map, roi, config, views, 2),
+                    referenceGains(*map, roi, config, views), "default grid");
+}
+
+TEST(InformationGain, VisibilityWeightedEqualsTheReferenceOnAPlantMap)
+{
+  const auto map = test::plantMap();
+  const Plant& plant = test::plantWorld().plant;
+  CylindricalSectorSampler sampler;
+  const std::vector<Viewpoint> views = sampler.gridCellCentres();
+  GainConfig config;
+  config.rays_x = 24;
+  config.rays_y = 18;
+  config.visibility_weighted = true;
+  for (const Roi& roi : {mainStemRoi(plant), Roi()}) {
+    const std::vector<ViewGain> ref = referenceGains(*map, roi, config, views);
+    const std::vector<ViewGain> fast = fastGains(map, roi, config, views, 2);
+    ASSERT_EQ(fast.size(), ref.size());
+    for (std::size_t i = 0; i < fast.size(); ++i) {
+      EXPECT_EQ(fast[i].voxels_seen, ref[i].voxels_seen);
+      EXPECT_NEAR(fast[i].gain, ref[i].gain, 1e-9 * std::max(1.0, ref[i].gain));
+    }
+  }
+}
+
+TEST(InformationGain, VisibilityWeightedGainByHand)
+{
+  // One ray along +x from a voxel centre, 10 voxels long: voxels 0..9 by computeRayKeys,
+  // then the end voxel 10. A frame seen from voxel 0 with a hit in voxel 5 made voxels
+  // 0-4 free (p 0.4 after one miss) and voxel 5 occupied (p 0.7); 6-10 are unknown.
+  const int k0 = 32768 + 200;
+  const double y = centre(32768 + 10), z = centre(32768 + 20);
+  auto map = std::make_shared<OccupancyMap>();
+  CloudXYZ hit;
+  hit.push_back(pcl::PointXYZ(static_cast<float>(centre(k0 + 5)), static_cast<float>(y),
+                              static_cast<float>(z)));
+  map->insert(hit, Eigen::Vector3d(centre(k0), y, z));
+  std::vector<double> p(11);
+  for (int i = 0; i <= 10; ++i)
+    p[static_cast<std::size_t>(i)] = map->probability(Eigen::Vector3d(centre(k0 + i), y, z));
+  ASSERT_NEAR(p[0], 0.4, 1e-6);
+  ASSERT_NEAR(p[5], 0.7, 1e-6);
+  ASSERT_EQ(p[6], 0.5);
+
+  GainConfig config;
+  config.rays_x = config.rays_y = 1;
+  config.raycast_range_m = 10 * kRes; // ends at the centre of voxel 10
+  // The ROI holds voxels 3..8.
+  const Roi roi({Box(Eigen::Vector3d(0.5 * (centre(k0 + 3) + centre(k0 + 8)), y, z),
+                     Eigen::Vector3d(5 * kRes + 1e-6, 1e-6, 1e-6))});
+  const Viewpoint view = lookingAlong(Eigen::Vector3d(centre(k0), y, z), 0.0);
+
+  double by_hand = 0.0, vis = 1.0;
+  for (int i = 0; i <= 10; ++i) {
+    if (i >= 3 && i <= 8)
+      by_hand += vis * occupancyEntropy(p[static_cast<std::size_t>(i)]);
+    vis *= 1.0 - p[static_cast<std::size_t>(i)];
+  }
+  config.visibility_weighted = true;
+  InformationGain gain;
+  gain.setInputMap(map);
+  gain.setRoi(roi);
+  gain.setConfig(config);
+  const ViewGain weighted = gain.compute(view);
+  EXPECT_EQ(weighted.voxels_seen, 6u); // the ray goes on past the occupied voxel
+  EXPECT_EQ(weighted.unknown_seen, 3u);
+  EXPECT_NEAR(weighted.gain, by_hand, 1e-15);
+  EXPECT_NEAR(referenceInformationGain(*map, roi, config, view).gain, by_hand, 1e-15);
+
+  // The paper's gain stops after the occupied voxel 5: voxels 3, 4, 5.
+  config.visibility_weighted = false;
+  gain.setConfig(config);
+  const ViewGain plain = gain.compute(view);
+  EXPECT_EQ(plain.voxels_seen, 3u);
+  EXPECT_NEAR(plain.gain, occupancyEntropy(p[3]) + occupancyEntropy(p[4]) + occupancyEntropy(p[5]),
+              1e-15);
+}
+
+TEST(InformationGain, InvalidInputsThrow)
+{
+  InformationGain gain;
+  EXPECT_THROW(gain.compute(test::paperV0()), InvalidArgumentError);
+  EXPECT_THROW(gain.update(), InvalidArgumentError);
+  EXPECT_THROW(gain.setInputMap(nullptr), InvalidArgumentError);
+  EXPECT_THROW(gain.setNumberOfThreads(-1), InvalidArgumentError);
+  GainConfig c;
+  c.rays_x = 0;
+  try {
+    gain.setConfig(c);
+    ADD_FAILURE() << "no error";
+  } catch (const InvalidArgumentError& e) {
+    EXPECT_NE(std::string(e.what()).find("rays_x = 0"), std::string::npos);
+  }
+  c = GainConfig();
+  c.horizontal_fov_rad = M_PI;
+  EXPECT_THROW(gain.setConfig(c), InvalidArgumentError);
+  c = GainConfig();
+  c.raycast_range_m = -1.0;
+  EXPECT_THROW(gain.setConfig(c), InvalidArgumentError);
+  Box bad;
+  bad.size = Eigen::Vector3d(-1.0, 1.0, 1.0);
+  EXPECT_THROW(gain.setRoi(Roi({bad})), InvalidArgumentError);
+}

@@ -1,0 +1,126 @@
+// The shared ray traversal (plantnbv/octree/ray_traversal.h) that the fast gain relies
+// on: the same voxels as OctoMap's computeRayKeys, and exact jumps.
+
+#include <cmath>
+#include <cstdint>
+#include <vector>
+
+#include <gtest/gtest.h>
+#include <octomap/OcTree.h>
+
+#include <plantnbv/common/random.h>
+#include <plantnbv/octree/ray_traversal.h>
+
+namespace rt = plantnbv::ray_traversal;
+
+namespace {
+
+struct KeyCollector {
+  std::vector<octomap::OcTreeKey> keys;
+  void begin(int kx, int ky, int kz, const int*) { add(kx, ky, kz); }
+  void next(int, int kx, int ky, int kz, double) { add(kx, ky, kz); }
+  void add(int kx, int ky, int kz)
+  {
+    keys.emplace_back(static_cast<octomap::key_type>(kx), static_cast<octomap::key_type>(ky),
+                      static_cast<octomap::key_type>(kz));
+  }
+};
+
+} // namespace
+
+TEST(RayTraversal, SameVoxelsAsOctoMapsComputeRayKeys)
+{
+  const double res = 0.003;
+  octomap::OcTree tree(res);
+  plantnbv::Rng rng(11);
+  octomap::KeyRay ray;
+  for (int i = 0; i < 3000; ++i) {
+    float o[3], e[3];
+    for (int a = 0; a < 3; ++a) {
+      o[a] = static_cast<float>(rng.uniform(-1.0, 1.0));
+      e[a] = static_cast<float>(o[a] + rng.uniform(-0.75, 0.75));
+    }
+    if (i % 10 == 0)
+      e[1] = o[1]; // axis-parallel components
+    if (i % 17 == 0)
+      e[0] = o[0] + 0.001f; // within one or two voxels
+    int ko[3], ke[3];
+    ASSERT_TRUE(rt::coordToKeyChecked(1.0 / res, o, ko));
+    ASSERT_TRUE(rt::coordToKeyChecked(1.0 / res, e, ke));
+    KeyCollector ours;
+    rt::traverseRay(o, e, ko, ke, res, ours);
+    ASSERT_TRUE(tree.computeRayKeys(octomap::point3d(o[0], o[1], o[2]),
+                                    octomap::point3d(e[0], e[1], e[2]), ray));
+    const std::vector<octomap::OcTreeKey> theirs(ray.begin(), ray.end());
+    ASSERT_EQ(ours.keys, theirs) << "segment " << i;
+  }
+}
+
+TEST(RayTraversal, AdvanceWhileBelowEqualsSequentialAdditions)
+{
+  plantnbv::Rng rng(5);
+  for (int i = 0; i < 200000; ++i) {
+    double t = rng.uniform() * (i % 3 == 0 ? 1e-3 : 0.8);
+    double delta = 0.003 / (0.05 + rng.uniform());
+    const double target = t + rng.uniform() * 2.0;
+    if (i % 11 == 0)
+      t = 0.0;
+    if (i % 13 == 0) {
+      // delta an odd number of half ulps of t's binade: ties-to-even alternates.
+      int e;
+      std::frexp(std::max(t, 1e-3), &e);
+      delta = std::ldexp(std::floor(delta / std::ldexp(1.0, e - 53)) + 0.5, e - 53);
+    }
+    double a = t;
+    long long na = 0;
+    while (a < target) {
+      a += delta;
+      ++na;
+    }
+    double b = t;
+    const long long nb = rt::advanceWhileBelow(b, delta, target);
+    ASSERT_EQ(na, nb) << "t " << t << " delta " << delta << " target " << target;
+    ASSERT_EQ(a, b) << "t " << t << " delta " << delta << " target " << target;
+  }
+}
+
+TEST(RayTraversal, JumpingPerAxisGivesTheStepByStepState)
+{
+  // OctoMap's steps are the merge of the axes' border crossings ordered by t: taking,
+  // per axis, every addition with t_max < T gives the state of stepping while the
+  // entry t of the next step is < T.
+  const double res = 0.003;
+  plantnbv::Rng rng(8);
+  for (int i = 0; i < 2000; ++i) {
+    float o[3], e[3];
+    for (int a = 0; a < 3; ++a) {
+      o[a] = static_cast<float>(rng.uniform(0.0, 1.0));
+      e[a] = static_cast<float>(o[a] + rng.uniform(-0.75, 0.75));
+    }
+    int ko[3] = {0, 0, 0}, ke[3] = {0, 0, 0};
+    ASSERT_TRUE(rt::coordToKeyChecked(1.0 / res, o, ko));
+    ASSERT_TRUE(rt::coordToKeyChecked(1.0 / res, e, ke));
+    rt::RaySetup s;
+    if (!rt::setupRay(o, e, ko, ke, res, s))
+      continue;
+    const double target = rng.uniform() * s.length;
+    // Step by step, OctoMap's comparisons.
+    double t[3] = {s.t_max[0], s.t_max[1], s.t_max[2]};
+    int k[3] = {ko[0], ko[1], ko[2]};
+    for (;;) {
+      const int axis = t[0] < t[1] ? (t[0] < t[2] ? 0 : 2) : (t[1] < t[2] ? 1 : 2);
+      if (!(t[axis] < target))
+        break;
+      k[axis] += s.step[axis];
+      t[axis] += s.t_delta[axis];
+    }
+    double tj[3] = {s.t_max[0], s.t_max[1], s.t_max[2]};
+    int kj[3] = {ko[0], ko[1], ko[2]};
+    for (int a = 0; a < 3; ++a)
+      kj[a] += static_cast<int>(rt::advanceWhileBelow(tj[a], s.t_delta[a], target)) * s.step[a];
+    for (int a = 0; a < 3; ++a) {
+      ASSERT_EQ(k[a], kj[a]) << "segment " << i;
+      ASSERT_EQ(t[a], tj[a]) << "segment " << i;
+    }
+  }
+}
