@@ -20,7 +20,11 @@
 #include <plantnbv/io/roi_io.h>
 #include <plantnbv/octree/octree_conversion.h>
 
+#include "read_csv.h"
+
 namespace fs = std::filesystem;
+
+using plantnbv::test::readCsv;
 
 namespace {
 
@@ -432,23 +436,6 @@ namespace {
 /// A fast trial config: a 160 x 120 camera with the L515's field of view, 32 x 24 rays.
 const char* kSmallTrial = "camera: 160x120:114.25,114.25,79.5,59.5\n"
                           "gain: {rays_x: 32, rays_y: 24}\n";
-
-std::vector<std::vector<std::string>> readCsv(const std::string& text)
-{
-  std::vector<std::vector<std::string>> rows;
-  std::istringstream lines(text);
-  std::string line;
-  while (std::getline(lines, line)) {
-    rows.emplace_back();
-    std::istringstream cells(line);
-    std::string cell;
-    while (std::getline(cells, cell, ','))
-      rows.back().push_back(cell);
-    if (!line.empty() && line.back() == ',')
-      rows.back().push_back("");
-  }
-  return rows;
-}
 
 } // namespace
 

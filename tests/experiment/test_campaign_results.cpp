@@ -15,8 +15,12 @@
 #include <plantnbv/experiment/campaign_runner.h>
 #include <plantnbv/experiment/result_store.h>
 
+#include "read_csv.h"
+
 using namespace plantnbv;
 namespace fs = std::filesystem;
+
+using plantnbv::test::readCsv;
 
 namespace {
 
@@ -231,23 +235,6 @@ void writeTrial(const fs::path& dir, const std::string& planner, int pattern,
         << "{\"levels\": {\"whole_plant\": {\"precision\": 1, \"recall\": " << f1[v]
         << ", \"f1\": " << f1[v] << ", \"chamfer\": " << chamfer[v] << "}}}";
   out << "]}\n";
-}
-
-std::vector<std::vector<std::string>> readCsv(const std::string& text)
-{
-  std::vector<std::vector<std::string>> rows;
-  std::istringstream lines(text);
-  std::string line;
-  while (std::getline(lines, line)) {
-    rows.emplace_back();
-    std::istringstream cells(line);
-    std::string cell;
-    while (std::getline(cells, cell, ','))
-      rows.back().push_back(cell);
-    if (!line.empty() && line.back() == ',')
-      rows.back().push_back("");
-  }
-  return rows;
 }
 
 } // namespace

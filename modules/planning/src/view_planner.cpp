@@ -18,15 +18,29 @@ double msSince(Clock::time_point start)
   return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
 }
 
-/// Candidates with no gain computed (baselines): gain NaN.
-std::vector<CandidateView> uncomputed(const std::vector<Viewpoint>& views)
+/// A baseline's result: `views[chosen]` is the next view; only its gain is computed (the
+/// other candidates report gain NaN). `start` is when the planner's compute() began.
+void fillBaselineResult(InformationGain& gain, const std::vector<Viewpoint>& views,
+                        std::size_t chosen, Clock::time_point start, NextViewResult& out)
 {
-  std::vector<CandidateView> out(views.size());
+  const double sample_ms = msSince(start);
+  const auto gain_start = Clock::now();
+  const ViewGain chosen_gain = gain.compute(views[chosen]);
+  out.gain_ms = msSince(gain_start);
+  out.update_ms = gain.getLastStats().rebuilt ? gain.getLastStats().update_ms : 0.0;
+  out.candidates.assign(views.size(), CandidateView{});
   for (std::size_t i = 0; i < views.size(); ++i) {
-    out[i].view = views[i];
-    out[i].gain.gain = std::numeric_limits<double>::quiet_NaN();
+    out.candidates[i].view = views[i];
+    out.candidates[i].gain.gain = std::numeric_limits<double>::quiet_NaN();
   }
-  return out;
+  out.candidates[chosen].gain = chosen_gain;
+  out.chosen = chosen;
+  out.view = views[chosen];
+  out.gain = chosen_gain.gain;
+  out.utility = chosen_gain.gain;
+  out.stop = false;
+  out.sample_ms = sample_ms;
+  out.total_ms = msSince(start);
 }
 
 } // namespace
@@ -211,22 +225,8 @@ void PredefinedPlanner::compute(NextViewResult& out)
   const std::vector<Viewpoint> centres = sector->gridCellCentres();
   const std::vector<int> order = patternOrder(pattern_, sector->getRows(), sector->getCols());
   const std::size_t chosen = static_cast<std::size_t>(order[step_ % order.size()]);
-  const double sample_ms = msSince(start);
-  const auto gain_start = Clock::now();
-  const ViewGain gain = gain_.compute(centres[chosen]);
-  out.gain_ms = msSince(gain_start);
-  out.update_ms = gain_.getLastStats().rebuilt ? gain_.getLastStats().update_ms : 0.0;
   ++step_;
-
-  out.candidates = uncomputed(centres);
-  out.candidates[chosen].gain = gain;
-  out.chosen = chosen;
-  out.view = centres[chosen];
-  out.gain = gain.gain;
-  out.utility = gain.gain;
-  out.stop = false;
-  out.sample_ms = sample_ms;
-  out.total_ms = msSince(start);
+  fillBaselineResult(gain_, centres, chosen, start, out);
 }
 
 // --- RandomPlanner ----------------------------------------------------------------------
@@ -239,21 +239,7 @@ void RandomPlanner::compute(NextViewResult& out)
   if (views_.empty())
     throw InvalidArgumentError("RandomPlanner::compute: the sampler drew no candidate");
   const std::size_t chosen = static_cast<std::size_t>(rng_.index(views_.size()));
-  const double sample_ms = msSince(start);
-  const auto gain_start = Clock::now();
-  const ViewGain gain = gain_.compute(views_[chosen]);
-  out.gain_ms = msSince(gain_start);
-  out.update_ms = gain_.getLastStats().rebuilt ? gain_.getLastStats().update_ms : 0.0;
-
-  out.candidates = uncomputed(views_);
-  out.candidates[chosen].gain = gain;
-  out.chosen = chosen;
-  out.view = views_[chosen];
-  out.gain = gain.gain;
-  out.utility = gain.gain;
-  out.stop = false;
-  out.sample_ms = sample_ms;
-  out.total_ms = msSince(start);
+  fillBaselineResult(gain_, views_, chosen, start, out);
 }
 
 } // namespace plantnbv
