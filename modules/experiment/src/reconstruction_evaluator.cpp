@@ -35,6 +35,9 @@ struct ReconstructionEvaluator::Impl {
   /// ground truth cropped to each.
   std::vector<std::vector<Roi>> parts;
   std::vector<std::vector<CloudXYZ::ConstPtr>> reference;
+  /// One metrics object per part, its reference tree built once in setLevels (a view
+  /// only rebuilds the reconstruction's tree).
+  std::vector<std::vector<std::unique_ptr<ReconstructionMetrics>>> metrics;
 };
 
 ReconstructionEvaluator::ReconstructionEvaluator() : impl_(std::make_unique<Impl>()) {}
@@ -99,14 +102,22 @@ void ReconstructionEvaluator::setLevels(const std::vector<EvaluationLevel>& leve
   }
   impl_->parts.assign(levels.size(), {});
   impl_->reference.assign(levels.size(), {});
+  impl_->metrics.clear();
+  impl_->metrics.resize(levels.size());
   for (std::size_t l = 0; l < levels.size(); ++l) {
     if (levels[l].average_boxes)
       for (const Box& box : levels[l].roi.boxes())
         impl_->parts[l].push_back(Roi({box}));
     else
       impl_->parts[l].push_back(levels[l].roi);
-    for (const Roi& part : impl_->parts[l])
+    for (const Roi& part : impl_->parts[l]) {
       impl_->reference[l].push_back(crop(impl_->ground_truth, part));
+      auto metrics = std::make_unique<ReconstructionMetrics>();
+      metrics->setThreshold(resolution_m_);
+      metrics->setNumberOfThreads(threads_);
+      metrics->setReference(impl_->reference[l].back());
+      impl_->metrics[l].push_back(std::move(metrics));
+    }
   }
   levels_ = levels;
 }
@@ -124,16 +135,14 @@ void ReconstructionEvaluator::compute(const CloudXYZ& reconstruction,
   // Copy once: the metrics and the crop take shared pointers.
   const auto cloud = std::make_shared<const CloudXYZ>(reconstruction);
   scores.assign(levels_.size(), LevelScore{});
-  ReconstructionMetrics metrics;
-  metrics.setThreshold(resolution_m_);
-  metrics.setNumberOfThreads(threads_);
   for (std::size_t l = 0; l < levels_.size(); ++l) {
     LevelScore& s = scores[l];
     double chamfer_sum = 0.0;
     std::size_t chamfer_count = 0;
     const std::size_t parts = impl_->parts[l].size();
     for (std::size_t p = 0; p < parts; ++p) {
-      metrics.setReference(impl_->reference[l][p]);
+      ReconstructionMetrics& metrics = *impl_->metrics[l][p];
+      metrics.setNumberOfThreads(threads_);
       metrics.setReconstruction(crop(cloud, impl_->parts[l][p]));
       const MetricsResult m = metrics.compute();
       s.precision += m.precision;

@@ -38,6 +38,12 @@ namespace viz {
 
 namespace {
 
+/// Relative luminance of an sRGB colour (Rec. 709 weights): picks dark or light text.
+double luminance(const Rgb& c)
+{
+  return 0.2126 * c.r + 0.7152 * c.g + 0.0722 * c.b;
+}
+
 constexpr double kPi = 3.14159265358979323846;
 /// Opacity of the lines (ROIs, frustums, polylines) drawn over everything, where the
 /// plant hides them.
@@ -377,9 +383,7 @@ void addLabelActors(const std::vector<FrustumLabel>& labels, const CameraPose& p
     property->SetVerticalJustificationToCentered();
     // A box behind the letters keeps them readable over the plant and lines: pale for
     // dark colours, dark for light ones (yellow).
-    const double luminance =
-        0.2126 * label.color.r + 0.7152 * label.color.g + 0.0722 * label.color.b;
-    const double box = luminance > 0.6 ? 0.15 : 1.0;
+    const double box = luminance(label.color) > 0.6 ? 0.15 : 1.0;
     property->SetBackgroundColor(box, box, box);
     property->SetBackgroundOpacity(0.8);
     overlay->AddActor2D(text);
@@ -826,9 +830,7 @@ RgbImage SceneSnapshot::renderImage() const
     text->SetFontFamilyToArial();
     text->SetVerticalJustificationToTop();
     text->SetJustificationToLeft();
-    const double luminance =
-        0.2126 * c.background.r + 0.7152 * c.background.g + 0.0722 * c.background.b;
-    const double ink = luminance > 0.5 ? 0.1 : 0.95;
+    const double ink = luminance(c.background) > 0.5 ? 0.1 : 0.95;
     text->SetColor(ink, ink, ink);
     title->GetPositionCoordinate()->SetCoordinateSystemToNormalizedViewport();
     title->SetPosition(0.02, 0.98);

@@ -85,7 +85,9 @@ public:
   const CloudXYZ& getGroundTruth() const;
 
   /// \brief Scores of `reconstruction` (world frame; non-finite points ignored) for each
-  /// level, in order.
+  /// level, in order. The reference trees are built once, in setLevels; a call builds
+  /// only the reconstruction's. Not thread-safe (it reuses per-box state): one evaluator
+  /// per thread.
   void compute(const CloudXYZ& reconstruction, std::vector<LevelScore>& scores) const;
 
 private:
