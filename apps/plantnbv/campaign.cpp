@@ -2,8 +2,10 @@
 // run on all cores, resumable, with statistics at the end.
 //   campaign run FILE -o DIR [-j N]     run the trials not done yet
 //   campaign run-chunk FILE -o DIR --chunk I --chunks N   one chunk (array jobs)
+//   campaign run-chunk FILE -o DIR --task-file F --task I  one task of `submit`
+//   campaign submit FILE -o DIR [...]   the missing trials as a Slurm job array
 //   campaign status DIR                 count done, failed and missing trials
-//   campaign report DIR [-o OUT]        curves.csv and summary.md
+//   campaign report DIR [-o OUT]        curves.csv, summary.md and PNG figures
 
 #include <algorithm>
 #include <atomic>
@@ -31,6 +33,9 @@
 #include <plantnbv/experiment/result_store.h>
 #include <plantnbv/experiment/trial.h>
 
+#include "campaign_figures.h"
+#include "campaign_file.h"
+#include "campaign_submit.h"
 #include "commands.h"
 #include "plant_source.h"
 #include "trial_config.h"
@@ -42,449 +47,6 @@ namespace app {
 namespace {
 
 namespace fs = std::filesystem;
-
-/// A campaign file: the definition, the trial config shared by its trials and the
-/// directory its relative paths are relative to.
-struct CampaignFile {
-  std::string path;
-  std::string text;
-  CampaignDefinition definition;
-  TrialConfig base; ///< the `trial:` section over the built-in defaults
-  fs::path base_dir;
-};
-
-/// Key paths for messages: "'quick.yaml' studies[1].planners[0].attention: ...".
-class Reader {
-public:
-  explicit Reader(const std::string& file) : file_(file) {}
-
-  [[noreturn]] void fail(const std::string& key_path, const std::string& message) const
-  {
-    throw FormatError("'" + file_ + "' " + key_path + ": " + message);
-  }
-
-  template <typename T>
-  T read(const YAML::Node& node, const std::string& key_path, const char* expected) const
-  {
-    if (!node.IsScalar())
-      fail(key_path, std::string("expected ") + expected);
-    try {
-      return node.as<T>();
-    } catch (const YAML::Exception&) {
-      fail(key_path, "'" + node.Scalar() + "' is not " + expected);
-    }
-  }
-
-  template <typename T>
-  std::vector<T> readList(const YAML::Node& node, const std::string& key_path,
-                          const char* expected) const
-  {
-    if (!node.IsSequence())
-      fail(key_path, std::string("expected a list of ") + expected);
-    std::vector<T> out;
-    for (std::size_t i = 0; i < node.size(); ++i)
-      out.push_back(read<T>(node[i], key_path + "[" + std::to_string(i) + "]", expected));
-    return out;
-  }
-
-  /// Calls handlers[key] for each key of the map; any other key is an error.
-  void forEach(const YAML::Node& map, const std::string& key_path,
-               const std::map<std::string,
-                              std::function<void(const YAML::Node&, const std::string&)>>&
-                   handlers) const
-  {
-    if (!map.IsMap())
-      fail(key_path.empty() ? "(top level)" : key_path, "expected a map of keys");
-    for (const auto& item : map) {
-      const std::string key = item.first.as<std::string>();
-      const std::string path = key_path.empty() ? key : key_path + "." + key;
-      const auto handler = handlers.find(key);
-      if (handler == handlers.end()) {
-        std::string known;
-        for (const auto& h : handlers)
-          known += (known.empty() ? "" : ", ") + h.first;
-        fail(path, "unknown key (expected one of " + known + ")");
-      }
-      handler->second(item.second, path);
-    }
-  }
-
-private:
-  std::string file_;
-};
-
-using Handler = std::function<void(const YAML::Node&, const std::string&)>;
-
-void readPlants(const Reader& r, const YAML::Node& node, const std::string& path,
-                std::vector<CampaignPlant>& plants)
-{
-  if (!node.IsSequence())
-    r.fail(path, "expected a list of plants ({seed: S} or {model: FILE})");
-  for (std::size_t i = 0; i < node.size(); ++i) {
-    const std::string p = path + "[" + std::to_string(i) + "]";
-    CampaignPlant plant;
-    std::vector<std::uint64_t> seeds;
-    bool named = false;
-    r.forEach(node[i], p,
-              {{"seed",
-                [&](const YAML::Node& n, const std::string& k) {
-                  seeds.push_back(r.read<std::uint64_t>(n, k, "a seed (integer >= 0)"));
-                }},
-               {"seeds",
-                [&](const YAML::Node& n, const std::string& k) {
-                  seeds = r.readList<std::uint64_t>(n, k, "seeds (integers >= 0)");
-                  if (seeds.empty())
-                    r.fail(k, "expected at least one seed");
-                }},
-               {"stage",
-                [&](const YAML::Node& n, const std::string& k) {
-                  plant.stage = r.read<double>(n, k, "a growth stage in [0, 1]");
-                  if (!(*plant.stage >= 0.0 && *plant.stage <= 1.0))
-                    r.fail(k, n.Scalar() + " is not in [0, 1]");
-                }},
-               {"simplified",
-                [&](const YAML::Node& n, const std::string& k) {
-                  plant.simplified = r.read<bool>(n, k, "true or false");
-                }},
-               {"model",
-                [&](const YAML::Node& n, const std::string& k) {
-                  plant.model = r.read<std::string>(n, k, "a file name");
-                }},
-               {"labels",
-                [&](const YAML::Node& n, const std::string& k) {
-                  plant.labels = r.read<std::string>(n, k, "label rules");
-                }},
-               {"rois",
-                [&](const YAML::Node& n, const std::string& k) {
-                  plant.rois = r.read<std::string>(n, k, "a ROI file name");
-                }},
-               {"name", [&](const YAML::Node& n, const std::string& k) {
-                  plant.name = r.read<std::string>(n, k, "a name");
-                  named = true;
-                }}});
-    if (seeds.empty() == plant.model.empty())
-      r.fail(p, "give a seed, seeds or a model file");
-    if (!plant.model.empty()) {
-      if (plant.simplified)
-        r.fail(p + ".simplified", "only a generated plant can be simplified");
-      if (!named)
-        plant.name = fs::path(plant.model).stem().string();
-      plants.push_back(plant);
-      continue;
-    }
-    if (!plant.labels.empty() || !plant.rois.empty())
-      r.fail(p, "labels and rois belong to a model file");
-    if (named && seeds.size() > 1)
-      r.fail(p + ".name", "one name for several seeds");
-    for (std::uint64_t seed : seeds) {
-      CampaignPlant generated = plant;
-      generated.seed = seed;
-      if (!named) {
-        std::ostringstream name;
-        name << "plant" << std::setw(2) << std::setfill('0') << seed;
-        generated.name = name.str();
-      }
-      plants.push_back(generated);
-    }
-  }
-}
-
-CampaignPlanner readPlanner(const Reader& r, const YAML::Node& node, const std::string& p)
-{
-  CampaignPlanner planner;
-  std::string type;
-  bool has_attention = false, has_patterns = false;
-  r.forEach(node, p,
-            {{"type",
-              [&](const YAML::Node& n, const std::string& k) {
-                type = r.read<std::string>(n, k, "nbv, predefined or random");
-                if (type != "nbv" && type != "predefined" && type != "random")
-                  r.fail(k, "unknown planner '" + type +
-                                "' (expected nbv, predefined or random)");
-              }},
-             {"name",
-              [&](const YAML::Node& n, const std::string& k) {
-                planner.name = r.read<std::string>(n, k, "a name");
-              }},
-             {"attention",
-              [&](const YAML::Node& n, const std::string& k) {
-                planner.attention = r.read<std::string>(n, k, "a ROI name");
-                if (!isAttentionName(planner.attention))
-                  r.fail(k,
-                         "unknown ROI '" + planner.attention +
-                             "' (expected whole-plant, main-stem, leaf-nodes, fruit or "
-                             "a ROI file)");
-                has_attention = true;
-              }},
-             {"patterns", [&](const YAML::Node& n, const std::string& k) {
-                planner.patterns = r.readList<int>(n, k, "patterns 1-4");
-                for (std::size_t i = 0; i < planner.patterns.size(); ++i)
-                  if (planner.patterns[i] < 1 || planner.patterns[i] > 4)
-                    r.fail(k + "[" + std::to_string(i) + "]",
-                           std::to_string(planner.patterns[i]) + " is not a pattern 1-4");
-                has_patterns = true;
-              }}});
-  if (type.empty())
-    r.fail(p + ".type", "missing (nbv, predefined or random)");
-  planner.kind = plannerKindFromName(type);
-  if (planner.kind == PlannerKind::nbv) {
-    if (!has_attention)
-      r.fail(p + ".attention", "missing: an NBV planner needs an attention ROI");
-    if (has_patterns)
-      r.fail(p + ".patterns", "only a predefined planner has patterns");
-    if (planner.name.empty()) // nbv-leaf-nodes; a ROI file: nbv-<its stem>
-      planner.name = "nbv-" + fs::path(planner.attention).stem().string();
-  } else {
-    if (has_attention)
-      r.fail(p + ".attention", "only an NBV planner has an attention ROI");
-    if (planner.kind == PlannerKind::random && has_patterns)
-      r.fail(p + ".patterns", "only a predefined planner has patterns");
-    if (planner.kind == PlannerKind::predefined && !has_patterns)
-      planner.patterns = {1, 2, 3, 4};
-    if (planner.name.empty())
-      planner.name = type;
-  }
-  return planner;
-}
-
-CampaignStudy readStudy(const Reader& r, const YAML::Node& node, const std::string& p)
-{
-  CampaignStudy study;
-  r.forEach(node, p,
-            {{"name",
-              [&](const YAML::Node& n, const std::string& k) {
-                study.name = r.read<std::string>(n, k, "a name");
-              }},
-             {"planners",
-              [&](const YAML::Node& n, const std::string& k) {
-                if (!n.IsSequence())
-                  r.fail(k, "expected a list of planners");
-                for (std::size_t i = 0; i < n.size(); ++i)
-                  study.planners.push_back(
-                      readPlanner(r, n[i], k + "[" + std::to_string(i) + "]"));
-              }},
-             {"simplified",
-              [&](const YAML::Node& n, const std::string& k) {
-                study.simplified = r.readList<bool>(n, k, "true or false");
-              }},
-             {"candidates",
-              [&](const YAML::Node& n, const std::string& k) {
-                study.candidates = r.readList<int>(n, k, "candidate counts (integers)");
-              }},
-             {"resolutions", [&](const YAML::Node& n, const std::string& k) {
-                study.resolutions_m = r.readList<double>(n, k, "resolutions (metres)");
-              }}});
-  if (study.name.empty())
-    r.fail(p + ".name", "missing");
-  return study;
-}
-
-/// Keys of `trial:` that the campaign sets per trial.
-void rejectCampaignKeys(const Reader& r, const YAML::Node& trial)
-{
-  if (!trial.IsMap())
-    return; // readTrialConfig names it
-  const std::map<std::string, std::string> owned{
-      {"planner", "studies[].planners"},
-      {"pattern", "studies[].planners[].patterns"},
-      {"views", "views"},
-      {"seed", "seed"}};
-  for (const auto& [key, where] : owned)
-    if (trial[key])
-      r.fail("trial." + key, "set by the campaign: use " + where);
-  if (trial["map"] && trial["map"].IsMap() && trial["map"]["resolution"])
-    r.fail("trial.map.resolution", "set by the campaign: use resolution (or a study's "
-                                   "resolutions)");
-  if (trial["sector"] && trial["sector"].IsMap() && trial["sector"]["samples_per_cell"])
-    r.fail("trial.sector.samples_per_cell",
-           "set by the campaign: use candidates (or a study's candidates)");
-}
-
-/// The config of one trial (without the model's sector height, which needs the plant).
-TrialConfig trialConfig(const CampaignFile& f, const TrialSpec& t)
-{
-  TrialConfig c = f.base;
-  c.planner = t.kind;
-  if (t.kind == PlannerKind::predefined)
-    c.pattern = t.pattern;
-  c.views = t.views;
-  c.samples_per_cell = t.candidates / (c.grid_rows * c.grid_cols);
-  c.map.resolution_m = t.resolution_m;
-  c.seed = t.seed;
-  c.threads = 1; // one trial per worker: no nested parallelism
-  return c;
-}
-
-CampaignFile loadCampaign(const std::string& path, const std::string& name_for_messages)
-{
-  CampaignFile f;
-  f.path = path;
-  std::ifstream in(path);
-  if (!in)
-    throw IoError("cannot read campaign file '" + path + "'");
-  std::stringstream text;
-  text << in.rdbuf();
-  f.text = text.str();
-  f.base_dir = fs::path(path).parent_path();
-  const Reader r(name_for_messages);
-  YAML::Node root;
-  try {
-    root = YAML::Load(f.text);
-  } catch (const YAML::Exception& e) {
-    throw FormatError("'" + name_for_messages + "' is not valid YAML: " + e.what());
-  }
-  CampaignDefinition& d = f.definition;
-  d.name = fs::path(path).stem().string();
-  bool has_plants = false, has_studies = false;
-  r.forEach(root, "",
-            {{"name",
-              [&](const YAML::Node& n, const std::string& k) {
-                d.name = r.read<std::string>(n, k, "a name");
-              }},
-             {"seed",
-              [&](const YAML::Node& n, const std::string& k) {
-                d.seed = r.read<std::uint64_t>(n, k, "a seed (integer >= 0)");
-              }},
-             {"plants",
-              [&](const YAML::Node& n, const std::string& k) {
-                readPlants(r, n, k, d.plants);
-                has_plants = true;
-              }},
-             {"yaws_deg",
-              [&](const YAML::Node& n, const std::string& k) {
-                d.yaws_deg = r.readList<double>(n, k, "angles in degrees");
-              }},
-             {"views",
-              [&](const YAML::Node& n, const std::string& k) {
-                d.views = r.read<int>(n, k, "an integer");
-              }},
-             {"candidates",
-              [&](const YAML::Node& n, const std::string& k) {
-                d.candidates = r.read<int>(n, k, "an integer");
-              }},
-             {"resolution",
-              [&](const YAML::Node& n, const std::string& k) {
-                d.resolution_m = r.read<double>(n, k, "a length in metres");
-              }},
-             {"repetitions",
-              [&](const YAML::Node& n, const std::string& k) {
-                d.repetitions = r.read<int>(n, k, "an integer");
-              }},
-             {"levels",
-              [&](const YAML::Node& n, const std::string& k) {
-                d.levels = r.readList<std::string>(n, k, "level names");
-                for (std::size_t i = 0; i < d.levels.size(); ++i) {
-                  const auto& known = levelSources();
-                  if (d.levels[i] != "model_rois" &&
-                      std::none_of(known.begin(), known.end(), [&](const LevelSource& l) {
-                        return d.levels[i] == l.level;
-                      }))
-                    r.fail(k + "[" + std::to_string(i) + "]",
-                           "unknown level '" + d.levels[i] +
-                               "' (expected whole_plant, main_stem, leaf_nodes, fruit or "
-                               "model_rois)");
-                }
-              }},
-             {"trial",
-              [&](const YAML::Node& n, const std::string&) {
-                rejectCampaignKeys(r, n);
-                readTrialConfig(n, name_for_messages, "trial.", f.base);
-              }},
-             {"studies", [&](const YAML::Node& n, const std::string& k) {
-                if (!n.IsSequence())
-                  r.fail(k, "expected a list of studies");
-                for (std::size_t i = 0; i < n.size(); ++i)
-                  d.studies.push_back(
-                      readStudy(r, n[i], k + "[" + std::to_string(i) + "]"));
-                has_studies = true;
-              }}});
-  if (!has_plants)
-    r.fail("plants", "missing");
-  if (!has_studies)
-    r.fail("studies", "missing");
-  try {
-    d.validate();
-    f.base.validate();
-  } catch (const InvalidArgumentError& e) {
-    throw InvalidArgumentError("'" + name_for_messages + "' " + e.what());
-  }
-  // Candidates: multiples of the sector's grid cells.
-  const int cells = f.base.grid_rows * f.base.grid_cols;
-  auto checkCandidates = [&](int n, const std::string& k) {
-    if (n < cells || n % cells != 0)
-      r.fail(k, std::to_string(n) + " is not a multiple of the " + std::to_string(cells) +
-                    " grid cells (9, 27, 45, ...)");
-  };
-  checkCandidates(d.candidates, "candidates");
-  for (std::size_t s = 0; s < d.studies.size(); ++s)
-    for (std::size_t i = 0; i < d.studies[s].candidates.size(); ++i)
-      checkCandidates(d.studies[s].candidates[i], "studies[" + std::to_string(s) +
-                                                      "].candidates[" +
-                                                      std::to_string(i) + "]");
-  // Every trial's config is valid (resolutions, views, ...).
-  for (const TrialSpec& t : expandCampaign(d)) {
-    try {
-      trialConfig(f, t).validate();
-    } catch (const InvalidArgumentError& e) {
-      throw InvalidArgumentError("'" + name_for_messages + "' trial " + t.id + ": " +
-                                 e.what());
-    }
-  }
-  return f;
-}
-
-/// A path of the campaign file, relative to the file's directory.
-std::string resolve(const CampaignFile& f, const std::string& path)
-{
-  if (path.empty() || fs::path(path).is_absolute())
-    return path;
-  return (f.base_dir / path).string();
-}
-
-/// Runs one trial: its own plant, scene, map; one thread.
-void runTrial(const CampaignFile& f, const TrialSpec& t, TrialResult& result)
-{
-  const CampaignPlant& plant = f.definition.plants.at(t.plant_index);
-  PlantSourceOptions source;
-  source.seed = plant.seed;
-  source.stage = plant.stage;
-  source.simplified = t.simplified;
-  source.model = resolve(f, plant.model);
-  source.labels = plant.labels;
-  source.rois = resolve(f, plant.rois);
-  source.yaw_deg = t.yaw_deg;
-  const PlacedPlant placed = makePlacedPlant(source);
-  TrialConfig config = trialConfig(f, t);
-  if (!plant.model.empty()) { // as reconstruct: the sector follows a model's height
-    Eigen::Vector3f lo, hi;
-    placed.plant.bounds(lo, hi);
-    config.sector.height_m =
-        std::max(0.05, double(hi.z()) - placed.plant.base_position.z());
-  }
-  std::vector<EvaluationLevel> levels = evaluationLevels(placed);
-  const std::vector<std::string>& wanted = f.definition.levels;
-  if (!wanted.empty())
-    levels.erase(std::remove_if(levels.begin(), levels.end(),
-                                [&](const EvaluationLevel& l) {
-                                  return std::find(wanted.begin(), wanted.end(),
-                                                   l.name) == wanted.end();
-                                }),
-                 levels.end());
-  if (levels.empty())
-    throw InvalidArgumentError("plant '" + plant.name +
-                               "' has none of the campaign's levels");
-  Trial trial(config);
-  trial.setPlant(std::make_shared<Plant>(placed.plant));
-  // The baselines' gains are reported inside the whole plant, as reconstruct does.
-  const std::string attention =
-      t.kind == PlannerKind::nbv
-          ? (fs::path(t.attention).has_extension() ? resolve(f, t.attention)
-                                                   : t.attention)
-          : "whole-plant";
-  trial.setAttentionRoi(attentionRoi(placed, attention));
-  trial.setEvaluationLevels(levels);
-  trial.run(result);
-}
 
 std::atomic<bool> g_stop{false};
 
@@ -536,26 +98,41 @@ struct RunOptions {
   int workers = 0;
   int chunk = -1;
   int chunks = 0;
+  std::string task_file; ///< run-chunk: one task of a `submit` task file
+  int task = -1;
+  std::string base_dir; ///< relative paths of the file are read from here if set
 };
 
 void runCampaign(const RunOptions& o)
 {
-  const CampaignFile f = loadCampaign(o.file, o.file);
+  CampaignFile f = loadCampaignFile(o.file, o.file);
+  if (!o.base_dir.empty())
+    f.base_dir = o.base_dir;
   const ResultStore store(o.output_dir);
   store.create(f.text);
   std::vector<TrialSpec> specs = expandCampaign(f.definition);
   const std::size_t all = specs.size();
-  if (o.chunks > 0)
+  std::size_t tasks = 0;
+  if (!o.task_file.empty()) {
+    ArrayTaskTrials task = arrayTaskTrials(specs, o.task_file, o.task);
+    specs = std::move(task.trials);
+    tasks = task.tasks;
+  } else if (o.chunks > 0) {
     specs = campaignChunk(specs, o.chunk, o.chunks);
+  }
 
   LocalRunner runner(
-      store, [&f](const TrialSpec& t, TrialResult& r) { runTrial(f, t, r); }, o.workers);
+      store, [&f](const TrialSpec& t, TrialResult& r) { runCampaignTrial(f, t, r); },
+      o.workers);
   const bool tty = ::isatty(STDOUT_FILENO) != 0;
   bool stop_announced = false;
   runner.setProgressCallback([&](const CampaignProgress& p) {
     if (p.event == CampaignProgress::Event::started) {
       std::cout << "campaign '" << f.definition.name << "': " << all << " trials";
-      if (o.chunks > 0)
+      if (!o.task_file.empty())
+        std::cout << "; array task " << o.task << " of " << tasks << ": " << p.total
+                  << " trials";
+      else if (o.chunks > 0)
         std::cout << "; chunk " << o.chunk << " of " << o.chunks << ": " << p.total
                   << " trials";
       std::cout << ", " << p.skipped << " already done, " << p.to_run << " to run on "
@@ -620,7 +197,7 @@ void statusCampaign(const std::string& dir)
   const std::string file = store.definitionPath().string();
   if (!fs::exists(file))
     throw IoError("'" + dir + "' is not a campaign directory (no campaign.yaml)");
-  const CampaignFile f = loadCampaign(file, file);
+  const CampaignFile f = loadCampaignFile(file, file);
   const std::vector<TrialSpec> specs = expandCampaign(f.definition);
   const StoreStatus s = store.status(specs);
   std::cout << "campaign '" << f.definition.name << "': " << s.total << " trials, "
@@ -631,9 +208,10 @@ void statusCampaign(const std::string& dir)
     std::cout << "failed: " << s.failed_ids[i] << ": " << s.failed_errors[i] << "\n";
   if (shown < s.failed_ids.size())
     std::cout << "... and " << s.failed_ids.size() - shown << " more failed\n";
+  printSlurmSubmissions(dir, std::cout);
 }
 
-void reportCampaign(const std::string& dir, std::string out)
+void reportCampaign(const std::string& dir, std::string out, bool figures)
 {
   const ResultStore store(dir);
   if (!fs::is_directory(fs::path(dir) / "trials"))
@@ -644,8 +222,8 @@ void reportCampaign(const std::string& dir, std::string out)
   std::string title = "Campaign " + fs::path(dir).filename().string();
   std::string missing;
   if (fs::exists(store.definitionPath())) {
-    const CampaignFile f =
-        loadCampaign(store.definitionPath().string(), store.definitionPath().string());
+    const CampaignFile f = loadCampaignFile(store.definitionPath().string(),
+                                            store.definitionPath().string());
     title = "Campaign '" + f.definition.name + "'";
     const StoreStatus s = store.status(expandCampaign(f.definition));
     if (s.missing)
@@ -659,7 +237,13 @@ void reportCampaign(const std::string& dir, std::string out)
                                            [](const StoredTrial& t) { return t.failed; });
   std::cout << trials.size() - failed << " trials done, " << failed << " failed"
             << missing << "; wrote " << (fs::path(out) / "curves.csv").string()
-            << " and summary.md\n";
+            << " and summary.md";
+  if (figures) {
+    const std::vector<fs::path> pngs = writeCampaignFigures(campaignCurves(trials), out);
+    for (const fs::path& png : pngs)
+      std::cout << ", " << png.filename().string();
+  }
+  std::cout << "\n";
 }
 
 } // namespace
@@ -667,8 +251,8 @@ void reportCampaign(const std::string& dir, std::string out)
 void addCampaignCommand(CLI::App& app)
 {
   CLI::App* cmd = app.add_subcommand(
-      "campaign", "Run many trials from a campaign file (resumable, on all cores), count "
-                  "them, and report their statistics");
+      "campaign", "Run many trials from a campaign file (resumable, on all cores or as a "
+                  "Slurm job array), count them, and report their statistics");
   cmd->require_subcommand(1);
 
   auto run = std::make_shared<RunOptions>();
@@ -684,15 +268,35 @@ void addCampaignCommand(CLI::App& app)
   auto chunk = std::make_shared<RunOptions>();
   CLI::App* c = cmd->add_subcommand(
       "run-chunk",
-      "Run one chunk of the trials (every N-th from the I-th), e.g. one task of "
-      "an array job");
+      "Run one chunk of the trials (every N-th from the I-th), or one task of a task "
+      "file that `submit` wrote, e.g. one task of an array job");
   c->add_option("file", chunk->file, "Campaign file (YAML)")->required();
   c->add_option("-o,--output", chunk->output_dir, "Campaign directory")->required();
-  c->add_option("--chunk", chunk->chunk, "Chunk index, 0 to N-1")->required();
-  c->add_option("--chunks", chunk->chunks, "Number of chunks N")->required();
+  CLI::Option* chunk_index =
+      c->add_option("--chunk", chunk->chunk, "Chunk index, 0 to N-1");
+  CLI::Option* chunk_count =
+      c->add_option("--chunks", chunk->chunks, "Number of chunks N");
+  CLI::Option* task_file =
+      c->add_option("--task-file", chunk->task_file, "Task file written by `submit`");
+  CLI::Option* task_index =
+      c->add_option("--task", chunk->task, "Task of the task file, 0 to T-1");
+  chunk_index->needs(chunk_count);
+  chunk_count->needs(chunk_index);
+  task_file->needs(task_index)->excludes(chunk_index)->excludes(chunk_count);
+  task_index->needs(task_file);
+  c->add_option(
+      "--base-dir", chunk->base_dir,
+      "Directory the file's relative paths are read from (default: the file's)");
   c->add_option("-j,--jobs", chunk->workers, "Trials at a time (default: all cores)")
       ->check(CLI::NonNegativeNumber);
-  c->callback([chunk]() { runCampaign(*chunk); });
+  c->callback([chunk, chunk_index, task_file]() {
+    if (chunk_index->count() == 0 && task_file->count() == 0)
+      throw CLI::RequiredError("give --chunk and --chunks, or --task-file and --task",
+                               CLI::ExitCodes::RequiredError);
+    runCampaign(*chunk);
+  });
+
+  addCampaignSubmitCommand(*cmd);
 
   auto status_dir = std::make_shared<std::string>();
   CLI::App* s = cmd->add_subcommand("status", "Count done, failed and missing trials");
@@ -702,10 +306,17 @@ void addCampaignCommand(CLI::App& app)
   auto report_dir = std::make_shared<std::string>();
   auto report_out = std::make_shared<std::string>();
   CLI::App* p = cmd->add_subcommand("report", "Write curves.csv (mean, sd, n, 95% CI per "
-                                              "view) and summary.md");
+                                              "view), summary.md and the PNG figures");
   p->add_option("dir", *report_dir, "Campaign directory")->required();
   p->add_option("-o,--output", *report_out, "Report directory (default: DIR/report)");
-  p->callback([report_dir, report_out]() { reportCampaign(*report_dir, *report_out); });
+  auto no_figures = std::make_shared<bool>(false);
+  p->add_flag(
+      "--no-figures", *no_figures,
+      "Skip the PNG figures (they need an X display; without one the tool re-runs "
+      "itself under xvfb-run)");
+  p->callback([report_dir, report_out, no_figures]() {
+    reportCampaign(*report_dir, *report_out, !*no_figures);
+  });
 }
 
 } // namespace app

@@ -46,8 +46,13 @@ void runCapture(const CaptureOptions& o)
   if (o.pose.size() != 7)
     throw InvalidArgumentError("--pose needs 7 numbers x,y,z,qx,qy,qz,qw, got " +
                                std::to_string(o.pose.size()));
-  const Pose T_W_C = Pose::fromXyzQuat(o.pose[0], o.pose[1], o.pose[2], o.pose[3],
-                                       o.pose[4], o.pose[5], o.pose[6]);
+  Pose T_W_C;
+  try {
+    T_W_C = Pose::fromXyzQuat(o.pose[0], o.pose[1], o.pose[2], o.pose[3], o.pose[4],
+                              o.pose[5], o.pose[6]);
+  } catch (const InvalidArgumentError& e) {
+    throw InvalidArgumentError(std::string("--pose: ") + e.what());
+  }
   // Output formats are checked before the work, so that nothing is rendered in vain.
   const std::string cloud_ext = io::extensionOf(o.output);
   if (cloud_ext != ".pcd" && cloud_ext != ".ply")

@@ -11,6 +11,27 @@
 
 #include "commands.h"
 
+namespace {
+
+/// Whether the command renders (a --snapshot option, or the figures of `campaign
+/// report`): rendering needs an X display.
+bool rendersPictures(int argc, char** argv)
+{
+  bool campaign = false, report = false;
+  for (int i = 1; i < argc; ++i) {
+    const std::string arg = argv[i];
+    if (arg.rfind("--snapshot", 0) == 0)
+      return true;
+    if (arg == "--no-figures" || arg == "--help" || arg == "-h")
+      return false;
+    campaign = campaign || (i == 1 && arg == "campaign");
+    report = report || (i == 2 && arg == "report");
+  }
+  return campaign && report;
+}
+
+} // namespace
+
 int main(int argc, char** argv)
 {
   CLI::App app{
@@ -27,11 +48,8 @@ int main(int argc, char** argv)
 
   // Rendering needs X: without a display, run again under xvfb-run (when installed;
   // otherwise the renderer reports the missing display as a one-line error).
-  for (int i = 1; i < argc; ++i)
-    if (std::string(argv[i]).rfind("--snapshot", 0) == 0) {
-      plantnbv::viz::reexecUnderXvfbIfNeeded(argc, argv);
-      break;
-    }
+  if (rendersPictures(argc, argv))
+    plantnbv::viz::reexecUnderXvfbIfNeeded(argc, argv);
 
   // CLI11 reports an unknown command as "a subcommand is required": name it instead.
   if (argc > 1 && argv[1][0] != '-') {

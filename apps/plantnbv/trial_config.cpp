@@ -45,7 +45,10 @@ public:
     if (!map.IsMap())
       throw FormatError(where("") + ": expected a map of keys");
     for (const auto& item : map) {
-      const std::string key = item.first.as<std::string>();
+      // Keys are names; YAML also allows lists and maps as keys (found by fuzzing).
+      if (!item.first.IsScalar())
+        throw FormatError(where("") + ": a key must be a name, not a list or a map");
+      const std::string key = item.first.Scalar();
       const auto handler = handlers.find(key);
       if (handler == handlers.end()) {
         std::string known;
@@ -85,6 +88,8 @@ void readTrialConfig(const YAML::Node& root, const std::string& path,
       {"pattern", [&](const YAML::Node& n) { top.read(n, "pattern", c.pattern); }},
       {"stop_gain_bits", [&](const YAML::Node& n) { top.read(n, "stop_gain_bits", c.stop_gain_bits); }},
       {"seed", [&](const YAML::Node& n) { top.read(n, "seed", c.seed); }},
+      {"time_limit_s", [&](const YAML::Node& n) { top.read(n, "time_limit_s", c.time_limit_s); }},
+      {"memory_cap_gib", [&](const YAML::Node& n) { double gib = 0; top.read(n, "memory_cap_gib", gib); c.memory_cap_bytes = gib * 1024 * 1024 * 1024; }},
       {"initial_view", [&](const YAML::Node& n) {
          KeyReader r(path, prefix + "initial_view.");
          std::vector<double> p{c.initial_view.position.x(), c.initial_view.position.y(),
@@ -93,7 +98,11 @@ void readTrialConfig(const YAML::Node& root, const std::string& path,
          std::vector<double> q{q0.x(), q0.y(), q0.z(), q0.w()};
          r.forEach(n, {{"position", [&](const YAML::Node& m) { r.readVector(m, "position", 3, p); }},
                        {"orientation", [&](const YAML::Node& m) { r.readVector(m, "orientation", 4, q); }}});
-         c.initial_view = Pose::fromXyzQuat(p[0], p[1], p[2], q[0], q[1], q[2], q[3]);
+         try {
+           c.initial_view = Pose::fromXyzQuat(p[0], p[1], p[2], q[0], q[1], q[2], q[3]);
+         } catch (const InvalidArgumentError& e) {
+           throw InvalidArgumentError(top.where("initial_view") + ": " + e.what());
+         }
        }},
       {"sector", [&](const YAML::Node& n) {
          KeyReader r(path, prefix + "sector.");

@@ -19,6 +19,7 @@ namespace app {
 ///   views: int
 ///   planner: nbv | predefined | random        pattern: 1-4
 ///   stop_gain_bits: number                    seed: int
+///   time_limit_s: number (0: none)            memory_cap_gib: number (default 8)
 ///   initial_view: {position: [x, y, z], orientation: [qx, qy, qz, qw]}
 ///   sector: {radius, height, bottom, angle_deg, rows, cols, samples_per_cell}
 ///   map: {resolution, prob_hit, prob_miss, clamp_min, clamp_max,

@@ -1,15 +1,17 @@
 // The trial loop: determinism, the planners' paths, and the attention mechanism's effect.
 
 #include <cmath>
+#include <limits>
 #include <memory>
+#include <string>
 
 #include <gtest/gtest.h>
 
 #include <plantnbv/common/error.h>
 #include <plantnbv/experiment/trial.h>
+#include <plantnbv/planning/view_planner.h>
 #include <plantnbv/plant/plant_rois.h>
 #include <plantnbv/plant/tomato_plant_generator.h>
-#include <plantnbv/planning/view_planner.h>
 
 using namespace plantnbv;
 
@@ -21,7 +23,8 @@ TrialConfig smallConfig(PlannerKind planner, int views)
 {
   TrialConfig c;
   c.camera = CameraIntrinsics::l515(L515Mode::qvga_320x240);
-  c.camera = CameraIntrinsics::custom(160, 120, c.camera.fx / 2, c.camera.fy / 2, 79.5, 59.5);
+  c.camera =
+      CameraIntrinsics::custom(160, 120, c.camera.fx / 2, c.camera.fy / 2, 79.5, 59.5);
   c.planner = planner;
   c.views = views;
   c.gain.rays_x = 32;
@@ -32,7 +35,8 @@ TrialConfig smallConfig(PlannerKind planner, int views)
 std::shared_ptr<Plant> plantAt(int seed, double yaw_deg,
                                const Eigen::Vector3d& base = paperPlantBase())
 {
-  auto plant = std::make_shared<Plant>(TomatoPlantGenerator(defaultPlantConfig(seed)).generate());
+  auto plant =
+      std::make_shared<Plant>(TomatoPlantGenerator(defaultPlantConfig(seed)).generate());
   posePlant(*plant, base, yaw_deg * M_PI / 180.0);
   return plant;
 }
@@ -80,10 +84,12 @@ void expectSameSteps(const TrialResult& a, const TrialResult& b)
 TEST(Trial, StartsAtV0MovedWithThePlantAndScoresEveryView)
 {
   const auto plant = plantAt(0, 0.0, Eigen::Vector3d(1.5, -0.2, 0.5));
-  const TrialResult r = runTrial(smallConfig(PlannerKind::nbv, 3), plant, wholePlantRoi(*plant));
+  const TrialResult r =
+      runTrial(smallConfig(PlannerKind::nbv, 3), plant, wholePlantRoi(*plant));
   ASSERT_EQ(r.steps.size(), 3u);
   ASSERT_EQ(r.level_names, (std::vector<std::string>{"whole_plant", "leaf_nodes"}));
-  EXPECT_TRUE(r.steps[0].view.position.isApprox(Eigen::Vector3d(1.146, 0.153, 1.083), 1e-12));
+  EXPECT_TRUE(
+      r.steps[0].view.position.isApprox(Eigen::Vector3d(1.146, 0.153, 1.083), 1e-12));
   EXPECT_TRUE(std::isnan(r.steps[0].gain));
   EXPECT_EQ(r.steps[0].candidates, 0u);
   for (std::size_t i = 0; i < r.steps.size(); ++i) {
@@ -135,7 +141,8 @@ TEST(Trial, PredefinedPlannerVisitsTheGridCentresInItsPattern)
   const std::vector<int> order = PredefinedPlanner::patternOrder(3);
   ASSERT_EQ(order.size(), 9u);
   for (int k = 0; k < 10; ++k)
-    EXPECT_TRUE(r.steps[k + 1].view.position.isApprox(centres[order[k % 9]].position, 1e-12))
+    EXPECT_TRUE(
+        r.steps[k + 1].view.position.isApprox(centres[order[k % 9]].position, 1e-12))
         << k;
   // The sector stands on the plant.
   EXPECT_EQ(trial.getSector().axis_base, plant->base_position);
@@ -179,4 +186,55 @@ TEST(Trial, RejectsABadConfigOrAMissingPlant)
   EXPECT_THROW(trial.run(r), InvalidArgumentError);
   EXPECT_EQ(plannerKindFromName("random"), PlannerKind::random);
   EXPECT_THROW(plannerKindFromName("greedy"), InvalidArgumentError);
+}
+
+TEST(Trial, RejectsNonFiniteNumbersAndConfigsOverTheMemoryCap)
+{
+  TrialConfig c;
+  c.initial_view.position.x() = std::nan("");
+  EXPECT_THROW(c.validate(), InvalidArgumentError);
+  c = TrialConfig();
+  c.initial_view.orientation.coeffs().setConstant(
+      std::numeric_limits<double>::infinity());
+  EXPECT_THROW(c.validate(), InvalidArgumentError);
+  c = TrialConfig();
+  c.time_limit_s = std::nan("");
+  EXPECT_THROW(c.validate(), InvalidArgumentError);
+
+  // The paper's 3 mm fits the default cap; 0.5 mm (216 x the voxels) does not, and the
+  // message gives the estimate.
+  c = TrialConfig();
+  EXPECT_NO_THROW(c.validate());
+  EXPECT_GT(c.estimatedMemoryBytes(), 0.1e9);
+  EXPECT_LT(c.estimatedMemoryBytes(), 0.5e9);
+  c.map.resolution_m = 0.0005;
+  EXPECT_GT(c.estimatedMemoryBytes(), c.memory_cap_bytes);
+  try {
+    c.validate();
+    ADD_FAILURE() << "0.5 mm was accepted";
+  } catch (const InvalidArgumentError& e) {
+    EXPECT_NE(std::string(e.what()).find("GiB, over the memory cap of 8 GiB"),
+              std::string::npos)
+        << e.what();
+  }
+  c.memory_cap_bytes = 1e12;
+  EXPECT_NO_THROW(c.validate());
+}
+
+TEST(Trial, StopsWithTimeLimitErrorOnceItsTimeIsUp)
+{
+  const auto plant = plantAt(0, 0.0);
+  TrialConfig c = smallConfig(PlannerKind::random, 5);
+  c.time_limit_s = 1e-6; // passed after the setup already
+  try {
+    runTrial(c, plant, wholePlantRoi(*plant));
+    ADD_FAILURE() << "no TimeLimitError";
+  } catch (const TimeLimitError& e) {
+    EXPECT_NE(
+        std::string(e.what()).find("trial time limit of 1e-06 s passed after setup"),
+        std::string::npos)
+        << e.what();
+  }
+  c.time_limit_s = 600.0; // far away: the trial runs all its views
+  EXPECT_EQ(runTrial(c, plant, wholePlantRoi(*plant)).steps.size(), 5u);
 }

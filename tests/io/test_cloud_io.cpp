@@ -188,6 +188,47 @@ TEST(CloudIo, GarbageIsAFormatError)
   EXPECT_THROW(loadCloud(dir.write("empty.pcd", ""), cloud), FormatError);
 }
 
+// Files on which PCL 1.13's PCDReader crashes (found by fuzzing, tests/fuzz/regressions)
+// never reach it.
+TEST(CloudIo, PcdFilesThatCrashPclAreFormatErrors)
+{
+  TempDir dir;
+  const std::string header =
+      "FIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nWIDTH 2\nDATA ascii\n";
+  auto message = [&](const std::string& content) {
+    const std::string path = dir.write("bad.pcd", content);
+    return thrownMessage<FormatError>([&] {
+      CloudXYZ cloud;
+      loadCloud(path, cloud);
+    });
+  };
+  EXPECT_NE(message(" \n" + header + "1 2 3\n4 5 6\n").find("a line starts with a blank"),
+            std::string::npos);
+  EXPECT_NE(message(header + "FIELDS\n1 2 3\n")
+                .find("the data starts with 'FIELDS', which PCL would read as a header "
+                      "line"),
+            std::string::npos);
+  EXPECT_NE(message(header + "1 2 3\nx 5 6\n")
+                .find("line 2 of the ASCII data does not start with a number: 'x 5 6'"),
+            std::string::npos);
+  EXPECT_NE(message(header + "1 2 3\nCOLUMNS x\n").find("line 2 of the ASCII data"),
+            std::string::npos);
+  // An empty line of a Windows file in the header.
+  EXPECT_NE(message("VERSION .7\r\n\r\n" + header + "1 2 3\n4 5 6\n")
+                .find("a line starts with a blank"),
+            std::string::npos);
+  // PCL reads on after DATA while lines look like header lines, binary data included.
+  std::string binary = "FIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nWIDTH 2\nDATA binary\n";
+  binary += "\nPOINTS 1";
+  binary.resize(binary.size() + 24 - 8, '\0');
+  EXPECT_NE(message(binary).find("the data starts with 'POINTS', which PCL would read as "
+                                 "a header line"),
+            std::string::npos);
+  EXPECT_NE(message("FIELDS x y z\nSIZE 4 2 4\nTYPE F F F\nWIDTH 1\nDATA ascii\n1 2 3\n")
+                .find("SIZE 2 of an F field is not 4 or 8"),
+            std::string::npos);
+}
+
 TEST(CloudIo, FileWithoutXyzIsAFormatError)
 {
   TempDir dir;

@@ -214,21 +214,21 @@ TEST(MeshIo, BinaryStlAndItsTriangleLimit)
   expectBounds(m, {0, 0, 0}, {1, 1, 0});
 
   MeshLoadOptions small;
-  small.max_triangles = 1;
+  small.limits.max_triangles = 1;
   const std::string msg = thrownMessage<FormatError>([&] { loadMesh(path, small); });
   EXPECT_NE(msg.find("max_triangles"), std::string::npos) << msg;
-  small.max_triangles = 2;
+  small.limits.max_triangles = 2;
   EXPECT_EQ(loadMesh(path, small).size(), 2u);
 }
 
 TEST(MeshIo, MaxTrianglesForAssimpFormats)
 {
   MeshLoadOptions options;
-  options.max_triangles = 15;
+  options.limits.max_triangles = 15;
   EXPECT_THROW(loadMesh(fixture("plant_cm_zup.dae"), options), FormatError);
-  options.max_triangles = 16;
+  options.limits.max_triangles = 16;
   EXPECT_EQ(loadMesh(fixture("plant_cm_zup.dae"), options).size(), 16u);
-  options.max_triangles = 2;
+  options.limits.max_triangles = 2;
   EXPECT_THROW(loadMesh(fixture("two_objects.obj"), options), FormatError);
 }
 

@@ -152,10 +152,10 @@ TEST(PlyMesh, MaxTrianglesIsRefused)
   const std::string path = dir.file("ten.ply");
   saveMeshPly(path, randomMesh(6, 10, 5));
   MeshLoadOptions options;
-  options.max_triangles = 9;
+  options.limits.max_triangles = 9;
   const std::string msg = thrownMessage<FormatError>([&] { loadMesh(path, options); });
   EXPECT_NE(msg.find("max_triangles"), std::string::npos) << msg;
-  options.max_triangles = 10;
+  options.limits.max_triangles = 10;
   EXPECT_EQ(loadMesh(path, options).size(), 10u);
 }
 

@@ -148,9 +148,9 @@ TEST(Vrml, PrimitivesHaveTheirSizes)
 TEST(Vrml, MaxTrianglesAndScale)
 {
   MeshLoadOptions options;
-  options.max_triangles = 12;
+  options.limits.max_triangles = 12;
   EXPECT_THROW(loadMesh(fixture("plant_yup.wrl"), options), FormatError);
-  options.max_triangles = 13;
+  options.limits.max_triangles = 13;
   options.scale = 100.0;
   const TriangleMesh m = loadMesh(fixture("plant_yup.wrl"), options);
   Eigen::Vector3f lo, hi;

@@ -56,6 +56,19 @@ TEST(AnatomyJson, ErrorsNameTheJsonPath)
   EXPECT_NE(message(bad).find("leaves[0].node.leaf_index: expected an integer"),
             std::string::npos)
       << message(bad);
+  // Out of int's range: refused, not wrapped around.
+  for (const char* index : {"4294967296", "-2147483649", "18446744073709551615"}) {
+    bad = good;
+    bad.replace(bad.find("\"leaf_index\": 0"), 15,
+                std::string("\"leaf_index\": ") + index);
+    EXPECT_NE(message(bad).find("leaves[0].node.leaf_index: expected an integer in the "
+                                "int range"),
+              std::string::npos)
+        << message(bad);
+  }
+  // A number beyond double is a JSON error too (nlohmann throws out_of_range for it,
+  // not parse_error; found by fuzzing).
+  EXPECT_NE(message(R"({"format": 1e400})").find("not JSON"), std::string::npos);
   bad = good;
   const auto at = bad.find("\"radius_m\"", bad.find("\"fruits\""));
   bad.replace(at, 10, "\"radius\"");

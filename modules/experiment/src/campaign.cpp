@@ -200,6 +200,13 @@ std::vector<TrialSpec> expandCampaign(const CampaignDefinition& d)
               for (std::size_t p = 0; p < d.plants.size(); ++p)
                 for (double yaw : d.yaws_deg)
                   for (int rep = 0; rep < d.repetitions; ++rep) {
+                    // Checked while expanding: the product of the axes can overflow
+                    // (found by fuzzing: an out-of-memory from a 1 KB file).
+                    if (specs.size() >= kMaxCampaignTrials)
+                      throw InvalidArgumentError(
+                          "campaign: more than " + std::to_string(kMaxCampaignTrials) +
+                          " trials (plants x yaws x repetitions x planners x variants); "
+                          "split it into several campaigns");
                     TrialSpec t;
                     t.study = study.name;
                     t.variant = variant;

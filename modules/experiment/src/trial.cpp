@@ -1,7 +1,8 @@
-#include <plantnbv/experiment/trial.h>
-
+#include <algorithm>
 #include <cmath>
+#include <iomanip>
 #include <limits>
+#include <sstream>
 
 #include <pcl/point_cloud.h>
 #include <pcl/point_types.h>
@@ -9,6 +10,7 @@
 #include <plantnbv/common/error.h>
 #include <plantnbv/common/random.h>
 #include <plantnbv/common/stopwatch.h>
+#include <plantnbv/experiment/trial.h>
 #include <plantnbv/planning/view_planner.h>
 #include <plantnbv/sensor/simulated_depth_sensor.h>
 
@@ -19,7 +21,11 @@ namespace {
 constexpr const char* kPlannerNames[] = {"nbv", "predefined", "random"};
 
 // Independent streams of the trial's seed for its random parts.
-enum SeedStream : std::uint64_t { kPlannerStream = 1, kNoiseStream = 2, kTruthStream = 3 };
+enum SeedStream : std::uint64_t {
+  kPlannerStream = 1,
+  kNoiseStream = 2,
+  kTruthStream = 3
+};
 
 std::unique_ptr<ViewPlanner> makePlanner(const TrialConfig& c)
 {
@@ -84,17 +90,53 @@ void TrialConfig::validate() const
     bad("views", std::to_string(views), "1 to 1000");
   if (threads < 0)
     bad("threads", std::to_string(threads), ">= 0");
+  if (!(std::isfinite(time_limit_s) && time_limit_s >= 0.0))
+    bad("time_limit_s", std::to_string(time_limit_s), "a finite value >= 0 (0: none)");
+  if (!initial_view.position.allFinite() ||
+      !initial_view.orientation.coeffs().allFinite() ||
+      !(initial_view.orientation.norm() > 0.5 && initial_view.orientation.norm() < 2.0))
+    bad("initial_view", "a non-finite position or orientation",
+        "finite numbers and a unit quaternion");
+  if (!(memory_cap_bytes > 0.0))
+    bad("memory_cap_bytes", std::to_string(memory_cap_bytes), "> 0");
+  const double need = estimatedMemoryBytes();
+  constexpr double kGib = 1024.0 * 1024.0 * 1024.0;
+  if (!(need <= memory_cap_bytes)) {
+    std::ostringstream s;
+    s << std::setprecision(3) << "trial config: map resolution " << map.resolution_m
+      << " m, range " << map.max_range_m << " m, camera " << camera.width << " x "
+      << camera.height << " and " << gain.rays_x << " x " << gain.rays_y
+      << " gain rays need about " << need / kGib << " GiB, over the memory cap of "
+      << memory_cap_bytes / kGib << " GiB (memory_cap_gib raises it)";
+    throw InvalidArgumentError(s.str());
+  }
   CylindricalSector s = sector;
   s.axis_base = paperPlantBase(); // replaced by the plant's base; the rest must hold
   s.validate();
+}
+
+double TrialConfig::estimatedMemoryBytes() const
+{
+  // A pyramid of the camera's fields of view out to the range: h^3 tan(a/2) tan(b/2) 4/3.
+  const double range = std::min(map.max_range_m, camera.max_range_m);
+  const double frustum_m3 = 4.0 / 3.0 * range * range * range *
+                            std::tan(camera.horizontalFov() / 2) *
+                            std::tan(camera.verticalFov() / 2);
+  const double voxel_m3 = map.resolution_m * map.resolution_m * map.resolution_m;
+  const double map_bytes = frustum_m3 / voxel_m3 * 32.0;
+  // Depth, points and labels of a frame, and the gain's ray directions.
+  const double image_bytes = double(camera.width) * camera.height * 32.0;
+  const double ray_bytes = double(gain.rays_x) * gain.rays_y * 24.0;
+  return map_bytes + image_bytes + ray_bytes;
 }
 
 std::vector<double> TrialResult::f1Curve(std::size_t level) const
 {
   std::vector<double> curve;
   for (const TrialStep& step : steps)
-    curve.push_back(level < step.scores.size() ? step.scores[level].f1
-                                               : std::numeric_limits<double>::quiet_NaN());
+    curve.push_back(level < step.scores.size()
+                        ? step.scores[level].f1
+                        : std::numeric_limits<double>::quiet_NaN());
   return curve;
 }
 
@@ -148,6 +190,15 @@ void Trial::run(TrialResult& result)
   sampler->setGrid(c.grid_rows, c.grid_cols);
   sampler->setSamplesPerCell(c.samples_per_cell);
   result.setup_ms = setup_clock.ms();
+  auto checkTimeLimit = [&](const char* after) {
+    if (c.time_limit_s > 0.0 && total_clock.ms() > 1000.0 * c.time_limit_s) {
+      std::ostringstream s;
+      s << std::setprecision(3) << "trial time limit of " << c.time_limit_s
+        << " s passed after " << after << " (" << total_clock.ms() / 1000.0 << " s)";
+      throw TimeLimitError(s.str());
+    }
+  };
+  checkTimeLimit("setup");
 
   map_ = std::make_shared<OccupancyMap>(c.map);
   map_->setNumberOfThreads(c.threads);
@@ -204,6 +255,10 @@ void Trial::run(TrialResult& result)
     result.steps.push_back(step);
     if (callback_)
       callback_(result.steps.back());
+    if (index + 1 < c.views)
+      checkTimeLimit(
+          ("view " + std::to_string(index + 1) + " of " + std::to_string(c.views))
+              .c_str());
   }
   result.total_ms = total_clock.ms();
 }

@@ -1,4 +1,5 @@
 #include <algorithm>
+#include <cctype>
 #include <charconv>
 #include <cmath>
 #include <cstring>
@@ -85,10 +86,63 @@ double fieldValue(const std::uint8_t* point, const FieldRef& f)
   }
 }
 
-/// Checks a PCD header and that the file is long enough for its binary data. PCL 1.13's
-/// PCDReader crashes on some malformed files (e.g. text without a DATA line), so it only
-/// gets files that pass.
-void checkPcd(const std::string& path)
+/// a * b, or false when it overflows 64 bits.
+bool multiply(std::uint64_t a, std::uint64_t b, std::uint64_t& product)
+{
+  return !__builtin_mul_overflow(a, b, &product);
+}
+
+/// Checks that each line of ASCII PCD data starts like a number (or nan, inf): PCL 1.13
+/// reads a data line that starts with FIELDS or COLUMNS as a header line and then
+/// writes past its buffers (found by fuzzing).
+void checkPcdAsciiLines(const std::string& path, std::istream& in)
+{
+  std::string line;
+  for (std::uint64_t n = 1; std::getline(in, line); ++n) {
+    const std::size_t first = line.find_first_not_of(" \t\r");
+    if (first != std::string::npos &&
+        std::string("0123456789+-.nNiI").find(line[first]) == std::string::npos) {
+      std::string shown = line.substr(first, 32);
+      for (char& c : shown)
+        if (!std::isprint(static_cast<unsigned char>(c)))
+          c = '?';
+      throw FormatError(detail::where(path) + "line " + std::to_string(n) +
+                        " of the ASCII data does not start with a number: '" + shown +
+                        "'");
+    }
+  }
+}
+
+/// PCL 1.13 goes on reading header lines after DATA until it meets a line that is not
+/// one (empty lines skipped): data whose first line starts like a header line (FIELDS,
+/// POINTS, DATA, ... even in binary data) changes the layout PCL reads the data with;
+/// FIELDS there made it write past its buffers (found by fuzzing). `in` is at the data.
+void checkPcdDataStart(const std::string& path, std::istream& in)
+{
+  static const char* const kHeaderWords[] = {"#",      "VERSION",   "FIELDS", "COLUMNS",
+                                             "SIZE",   "TYPE",      "COUNT",  "WIDTH",
+                                             "HEIGHT", "VIEWPOINT", "POINTS", "DATA"};
+  std::string word;
+  for (int c; (c = in.get()) != std::istream::traits_type::eof();) {
+    if (c == '\n' && word.empty())
+      continue; // a blank line: PCL skips an empty one, and stops at one of blanks
+    if (word.empty() && (c == ' ' || c == '\t' || c == '\r' || c == '\v' || c == '\f'))
+      continue;
+    if (c == '\n' || word.size() == 9)
+      break;
+    word += static_cast<char>(c);
+  }
+  for (const char* header_word : kHeaderWords)
+    if (word.rfind(header_word, 0) == 0)
+      throw FormatError(detail::where(path) + "the data starts with '" + header_word +
+                        "', which PCL would read as a header line");
+}
+
+/// Checks a PCD header and that the file is long enough for its data. PCL 1.13's
+/// PCDReader crashes on some malformed files (e.g. text without a DATA line) and
+/// allocates for the declared point count before it reads any point, so it only gets
+/// files that pass.
+void checkPcd(const std::string& path, const InputLimits& limits)
 {
   std::ifstream in(path, std::ios::binary);
   auto bad = [&](const std::string& why) {
@@ -101,8 +155,15 @@ void checkPcd(const std::string& path)
   bool have_width = false, have_points = false, have_types = false;
   std::string line;
   while (data.empty()) {
+    const bool starts_with_cr = in.peek() == '\r'; // readHeaderLine drops a final \r
     if (!detail::readHeaderLine(path, in, line))
       throw bad("no DATA line (not a PCD file?)");
+    // PCL 1.13 dereferences a null pointer on a header line of blanks only, "\r" (an
+    // empty line of a Windows file) included (found by fuzzing), and reads a line that
+    // starts with a blank differently from us.
+    if (starts_with_cr ||
+        (!line.empty() && std::isspace(static_cast<unsigned char>(line[0]))))
+      throw bad("a line starts with a blank");
     std::istringstream words(line);
     std::string key;
     words >> key;
@@ -150,53 +211,93 @@ void checkPcd(const std::string& path)
     throw bad("TYPE must be I, U or F");
   if (!have_width)
     throw bad("no WIDTH");
+  std::uint64_t width_x_height = 0;
+  if (!multiply(width, height, width_x_height))
+    throw bad("WIDTH x HEIGHT overflows");
   if (!have_points)
-    points = width * height;
+    points = width_x_height;
+  detail::checkLimit(path, std::max(points, width_x_height), "points", limits.max_points,
+                     "max_points");
   if (data != "ascii" && data != "binary" && data != "binary_compressed")
     throw bad("DATA must be ascii, binary or binary_compressed, got '" + data + "'");
-  std::uint64_t point_size = 0;
-  for (std::size_t i = 0; i < fields; ++i)
-    point_size += sizes[i] * (counts.empty() ? 1 : counts[i]);
+  // Sizes are those of I, U and F values; counts as large as PCL's widest descriptors
+  // (e.g. ESF, 640 values) with room to spare.
+  constexpr std::uint64_t kMaxCount = 1 << 16;
+  std::uint64_t point_size = 0, values = 0;
+  for (std::size_t i = 0; i < fields; ++i) {
+    const std::uint64_t count = counts.empty() ? 1 : counts[i];
+    if (sizes[i] != 1 && sizes[i] != 2 && sizes[i] != 4 && sizes[i] != 8)
+      throw bad("SIZE " + std::to_string(sizes[i]) + " is not 1, 2, 4 or 8");
+    if (types[i] == 'F' && sizes[i] != 4 && sizes[i] != 8)
+      throw bad("SIZE " + std::to_string(sizes[i]) + " of an F field is not 4 or 8");
+    if (count < 1 || count > kMaxCount)
+      throw bad("COUNT " + std::to_string(count) + " is not in 1.." +
+                std::to_string(kMaxCount));
+    point_size += sizes[i] * count;
+    values += count;
+  }
   const auto body = static_cast<std::uint64_t>(in.tellg());
   const std::uint64_t file_size = std::filesystem::file_size(path);
-  if (data == "binary" &&
-      (file_size - body) / std::max<std::uint64_t>(point_size, 1) < points)
-    throw FormatError(detail::where(path) + "truncated: " + std::to_string(points) +
-                      " points of " + std::to_string(point_size) +
-                      " bytes need more than the " + std::to_string(file_size - body) +
-                      " bytes left");
+  if (!in || body > file_size)
+    throw IoError(detail::where(path) + "cannot determine the file size");
+  const std::uint64_t left = file_size - body;
+  auto truncated = [&](const std::string& need) {
+    return FormatError(detail::where(path) + "truncated: " + std::to_string(points) +
+                       " points need " + need + ", more than the " +
+                       std::to_string(left) + " bytes left");
+  };
+  // ASCII: each value takes at least one character and a separator.
+  if (data == "ascii" && points > (left + 1) / (2 * values))
+    throw truncated("at least " + std::to_string(2 * values) + " bytes each");
+  if (data == "binary" && left / point_size < points)
+    throw truncated(std::to_string(point_size) + " bytes each");
   if (data == "binary_compressed") {
     std::uint32_t sizes_of_block[2] = {0, 0}; // compressed, uncompressed
+    std::uint64_t bytes = 0;
+    // LZF expands 3 bytes into at most 264: a larger ratio cannot be real data.
     if (!in.read(reinterpret_cast<char*>(sizes_of_block), 8) ||
-        sizes_of_block[0] > file_size - body - 8 ||
-        sizes_of_block[1] != points * point_size)
+        sizes_of_block[0] > left - std::min<std::uint64_t>(left, 8) ||
+        !multiply(points, point_size, bytes) || sizes_of_block[1] != bytes ||
+        bytes > 88 * std::uint64_t{sizes_of_block[0]} + 8)
       throw FormatError(detail::where(path) +
                         "truncated or inconsistent compressed data");
   }
+  in.clear();
+  in.seekg(static_cast<std::streamoff>(body));
+  checkPcdDataStart(path, in);
+  if (data == "ascii") {
+    in.clear();
+    in.seekg(static_cast<std::streamoff>(body));
+    checkPcdAsciiLines(path, in);
+  }
 }
 
-/// Checks a PLY header: a vertex element, and a body long enough for its counts.
-void checkPly(const std::string& path)
+/// Checks a PLY header: a vertex element within the limits, and a body long enough for
+/// its counts.
+void checkPly(const std::string& path, const InputLimits& limits)
 {
   std::ifstream in(path, std::ios::binary);
   const detail::PlyHeader header = detail::readPlyHeader(path, in);
-  if (!detail::findElement(header, "vertex"))
+  const detail::PlyElement* vertex = detail::findElement(header, "vertex");
+  if (!vertex)
     throw FormatError(detail::where(path) + "no vertex element");
+  detail::checkLimit(path, vertex->count, "points", limits.max_points, "max_points");
   detail::checkPlyBodySize(path, in, header);
 }
 
 /// Reads the file into a blob with PCL's readers; checks that x, y and z exist.
-pcl::PCLPointCloud2 readBlob(const std::string& path)
+pcl::PCLPointCloud2 readBlob(const std::string& path, const InputLimits& limits)
 {
   const std::string ext = extensionOf(path);
   if (ext != ".pcd" && ext != ".ply")
     throw FormatError(detail::where(path) + "unknown point cloud extension '" + ext +
                       "' (" + kCloudExtensions + ")");
   detail::requireReadableFile(path);
+  detail::checkFileSize(path, limits);
   if (ext == ".pcd")
-    checkPcd(path);
+    checkPcd(path, limits);
   else
-    checkPly(path);
+    checkPly(path, limits);
   pcl::PCLPointCloud2 blob;
   Eigen::Vector4f origin;
   Eigen::Quaternionf orientation;
@@ -241,9 +342,11 @@ void fromBlob(const std::string& path, const pcl::PCLPointCloud2& blob,
   const FieldRef fl = with_label ? findField(blob, "label") : FieldRef{};
   cloud.width = blob.width;
   cloud.height = blob.height;
-  cloud.is_dense = blob.is_dense;
   cloud.header.frame_id = blob.header.frame_id;
   cloud.points.resize(std::size_t{blob.width} * blob.height);
+  // From the points, not the file's word: PCL's filters skip their finiteness checks
+  // on a dense cloud, and NaNs must never reach OctoMap.
+  bool dense = true;
   std::size_t i = 0;
   for (std::uint32_t row = 0; row < blob.height; ++row)
     for (std::uint32_t col = 0; col < blob.width; ++col, ++i) {
@@ -253,6 +356,7 @@ void fromBlob(const std::string& path, const pcl::PCLPointCloud2& blob,
       q.x = static_cast<float>(fieldValue(p, fx));
       q.y = static_cast<float>(fieldValue(p, fy));
       q.z = static_cast<float>(fieldValue(p, fz));
+      dense = dense && std::isfinite(q.x) && std::isfinite(q.y) && std::isfinite(q.z);
       if constexpr (std::is_same_v<PointT, pcl::PointXYZL>) {
         q.label = 0;
         if (fl.found()) {
@@ -265,6 +369,7 @@ void fromBlob(const std::string& path, const pcl::PCLPointCloud2& blob,
         }
       }
     }
+  cloud.is_dense = dense;
 }
 
 /// Appends the little-endian bytes of v.
@@ -369,12 +474,22 @@ void save(const std::string& path, const pcl::PointCloud<PointT>& cloud, bool bi
 
 void loadCloud(const std::string& path, CloudXYZ& cloud)
 {
-  fromBlob(path, readBlob(path), cloud, false);
+  loadCloud(path, cloud, defaultInputLimits());
 }
 
 void loadCloud(const std::string& path, CloudXYZL& cloud)
 {
-  fromBlob(path, readBlob(path), cloud, true);
+  loadCloud(path, cloud, defaultInputLimits());
+}
+
+void loadCloud(const std::string& path, CloudXYZ& cloud, const InputLimits& limits)
+{
+  fromBlob(path, readBlob(path, limits), cloud, false);
+}
+
+void loadCloud(const std::string& path, CloudXYZL& cloud, const InputLimits& limits)
+{
+  fromBlob(path, readBlob(path, limits), cloud, true);
 }
 
 void saveCloud(const std::string& path, const CloudXYZ& cloud, bool binary)

@@ -1,5 +1,6 @@
 #include "io_util.h"
 
+#include <charconv>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -25,9 +26,28 @@ void requireReadableFile(const std::string& path)
     throw IoError(where(path) + "cannot open for reading");
 }
 
-std::string readFileToString(const std::string& path)
+void checkFileSize(const std::string& path, const InputLimits& limits)
+{
+  std::error_code ec;
+  const std::uintmax_t size = std::filesystem::file_size(path, ec);
+  if (ec)
+    throw IoError(where(path) + "cannot determine the file size");
+  checkLimit(path, size, "bytes", limits.max_file_bytes, "max_file_bytes");
+}
+
+void checkLimit(const std::string& path, std::uint64_t count, const char* what,
+                std::uint64_t cap, const char* cap_name)
+{
+  if (cap > 0 && count > cap)
+    throw FormatError(where(path) + std::to_string(count) + " " + what +
+                      " exceed the limit of " + std::to_string(cap) +
+                      " (InputLimits::" + cap_name + ")");
+}
+
+std::string readFileToString(const std::string& path, const InputLimits& limits)
 {
   requireReadableFile(path);
+  checkFileSize(path, limits);
   std::ifstream in(path, std::ios::binary);
   std::ostringstream content;
   content << in.rdbuf();
@@ -54,6 +74,13 @@ bool readHeaderLine(const std::string& path, std::istream& in, std::string& line
   if (!line.empty() && line.back() == '\r')
     line.pop_back();
   return any;
+}
+
+std::string numberText(double v)
+{
+  char buf[32];
+  const auto r = std::to_chars(buf, buf + sizeof(buf), v);
+  return std::string(buf, r.ptr);
 }
 
 bool hostIsLittleEndian()

@@ -8,6 +8,7 @@
 #include <Eigen/Core>
 
 #include <plantnbv/common/triangle_mesh.h>
+#include <plantnbv/io/input_limits.h>
 
 namespace plantnbv {
 namespace io {
@@ -16,8 +17,18 @@ namespace detail {
 /// Throws IoError naming the path unless it names a readable regular file.
 void requireReadableFile(const std::string& path);
 
-/// Reads a whole file into a string. \throws IoError.
-std::string readFileToString(const std::string& path);
+/// Throws FormatError naming the path and the cap if the file is larger than
+/// limits.max_file_bytes (checked before the file is read).
+void checkFileSize(const std::string& path, const InputLimits& limits);
+
+/// Throws FormatError "<path>: <count> <what> exceed the limit of <cap>
+/// (InputLimits::<cap_name>)" when cap > 0 and count > cap.
+void checkLimit(const std::string& path, std::uint64_t count, const char* what,
+                std::uint64_t cap, const char* cap_name);
+
+/// Reads a whole file into a string, refusing one over limits.max_file_bytes.
+/// \throws IoError, FormatError.
+std::string readFileToString(const std::string& path, const InputLimits& limits);
 
 /// Reads one line of a text header (without its "\n" or "\r\n"); false at the end of
 /// the file. \throws FormatError for a line over 4096 characters (binary data, not a
@@ -35,12 +46,18 @@ enum class Up { x, y, z };
 /// (x, -z, y); X_UP (-y right, x up, z toward the viewer) maps (x, y, z) to (-y, -z, x).
 Eigen::Matrix3d upToZ(Up up);
 
-/// Our PLY mesh reader (ply_mesh.cpp). Stops with FormatError as soon as the file holds
-/// more than max_triangles triangles (0 = no limit), before allocating for them.
-TriangleMesh readPlyMesh(const std::string& path, std::uint64_t max_triangles);
+/// Our PLY mesh reader (ply_mesh.cpp). Refuses more vertices than limits.max_points from
+/// the header, and stops with FormatError as soon as the file holds more than
+/// limits.max_triangles triangles, before allocating for them.
+TriangleMesh readPlyMesh(const std::string& path, const InputLimits& limits);
 
 /// Our VRML97 reader (vrml_import.cpp): geometry in file units and axes (Y up).
-TriangleMesh readVrml(const std::string& path, std::uint64_t max_triangles);
+TriangleMesh readVrml(const std::string& path, const InputLimits& limits);
+
+/// A number read from a file, for messages: the shortest text that reads back as it
+/// (whole numbers without a fraction). Unlike a cast to an integer, defined for any
+/// value (1e300, NaN).
+std::string numberText(double v);
 
 /// The "path: " prefix of every message about a file.
 inline std::string where(const std::string& path)

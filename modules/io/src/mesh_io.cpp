@@ -113,7 +113,8 @@ ColladaAsset scanColladaAsset(const std::string& path, const std::string& head)
 
 /// Refuses Collada files that make Assimp 5.2.5 loop forever or crash (found by
 /// fuzzing): an index list (<p>) holding anything but digits and spaces, and an array
-/// (<float_array>, ...) without a valid count attribute.
+/// (<float_array>, ...) without a valid count attribute, or with a count that the file
+/// cannot hold (Assimp reserves memory for the count before it reads the values).
 void checkColladaForAssimp(const std::string& path, const std::string& text)
 {
   auto lineOf = [&](std::size_t at) {
@@ -129,12 +130,16 @@ void checkColladaForAssimp(const std::string& path, const std::string& text)
           std::string_view(text).substr(at, close == std::string::npos ? 0 : close - at);
       std::string_view count;
       std::uint64_t n = 0;
-      if (!attribute(start_tag, "count", count) ||
+      if (!attribute(start_tag, "count", count) || count.empty() ||
           std::from_chars(count.data(), count.data() + count.size(), n).ptr !=
-              count.data() + count.size() ||
-          count.empty())
+              count.data() + count.size())
         throw FormatError(detail::where(path) + "line " + lineOf(at) + ": " + tag +
                           "> needs a count attribute holding a non-negative integer");
+      // Each value takes at least one character and a separator.
+      if (n > text.size() / 2 + 1)
+        throw FormatError(detail::where(path) + "line " + lineOf(at) + ": " + tag +
+                          "> count " + std::string(count) +
+                          " is more than the file can hold");
     }
 
   static const char* const kTags[] = {"<p>", "<p ", "<h>",     "<h ",
@@ -156,9 +161,9 @@ void checkColladaForAssimp(const std::string& path, const std::string& text)
 
 /// A binary STL states its triangle count in its first 84 bytes: refuse a file over the
 /// limit before Assimp allocates for it.
-void checkStlTriangleCount(const std::string& path, std::uint64_t max_triangles)
+void checkStlTriangleCount(const std::string& path, const InputLimits& limits)
 {
-  if (max_triangles == 0)
+  if (limits.max_triangles == 0 && limits.max_points == 0)
     return;
   const std::uint64_t size = std::filesystem::file_size(path);
   if (size < 84)
@@ -169,10 +174,10 @@ void checkStlTriangleCount(const std::string& path, std::uint64_t max_triangles)
     return;
   const std::uint64_t n = header[80] | (header[81] << 8) | (header[82] << 16) |
                           (std::uint64_t{header[83]} << 24);
-  if (size == 84 + 50 * n && n > max_triangles)
-    throw FormatError(detail::where(path) + std::to_string(n) + " triangles exceed " +
-                      std::to_string(max_triangles) +
-                      " (MeshLoadOptions::max_triangles)");
+  if (size == 84 + 50 * n) { // binary: 50 bytes per triangle, 3 vertices each
+    detail::checkLimit(path, n, "triangles", limits.max_triangles, "max_triangles");
+    detail::checkLimit(path, 3 * n, "vertices", limits.max_points, "max_points");
+  }
 }
 
 Eigen::Matrix4d toEigen(const aiMatrix4x4& m)
@@ -201,18 +206,20 @@ class AssimpCollector {
 public:
   explicit AssimpCollector(const aiScene& scene) : scene_(scene) {}
 
-  /// Counts the triangles of the node tree (instances counted each time).
-  std::uint64_t count(const aiNode& node) const
+  /// Counts the triangles and vertices of the node tree (instances counted each time),
+  /// as collect() copies them.
+  void count(const aiNode& node, std::uint64_t& triangles, std::uint64_t& vertices) const
   {
-    std::uint64_t n = 0;
     for (unsigned i = 0; i < node.mNumMeshes; ++i) {
       const aiMesh& m = *scene_.mMeshes[node.mMeshes[i]];
+      if (!(m.mPrimitiveTypes & (aiPrimitiveType_TRIANGLE | aiPrimitiveType_POLYGON)))
+        continue;
+      vertices += m.mNumVertices;
       for (unsigned f = 0; f < m.mNumFaces; ++f)
-        n += m.mFaces[f].mNumIndices == 3;
+        triangles += m.mFaces[f].mNumIndices == 3;
     }
     for (unsigned c = 0; c < node.mNumChildren; ++c)
-      n += count(*node.mChildren[c]);
-    return n;
+      count(*node.mChildren[c], triangles, vertices);
   }
 
   /// Appends the triangles of the node and its descendants, placed by their transforms
@@ -272,10 +279,10 @@ private:
 /// drop the root transform and apply the unit and up axis ourselves: exactly once,
 /// whatever the Assimp version does.
 TriangleMesh readWithAssimp(const std::string& path, const std::string& ext,
-                            std::uint64_t max_triangles)
+                            const InputLimits& limits)
 {
   if (ext == ".stl")
-    checkStlTriangleCount(path, max_triangles);
+    checkStlTriangleCount(path, limits);
   Assimp::Importer importer;
   importer.SetPropertyBool(AI_CONFIG_IMPORT_COLLADA_IGNORE_UP_DIRECTION, true);
   // Node names from Collada's `name` attributes (what modelling tools show), not ids.
@@ -293,12 +300,12 @@ TriangleMesh readWithAssimp(const std::string& path, const std::string& ext,
     throw FormatError(detail::where(path) + "cannot be read as " + ext.substr(1) + ": " +
                       importer.GetErrorString());
   AssimpCollector collector(*scene);
-  const std::uint64_t triangles = collector.count(*scene->mRootNode);
-  if (max_triangles > 0 && triangles > max_triangles)
-    throw FormatError(detail::where(path) + std::to_string(triangles) +
-                      " triangles exceed " + std::to_string(max_triangles) +
-                      " (MeshLoadOptions::max_triangles)");
+  std::uint64_t triangles = 0, vertices = 0;
+  collector.count(*scene->mRootNode, triangles, vertices);
+  detail::checkLimit(path, triangles, "triangles", limits.max_triangles, "max_triangles");
+  detail::checkLimit(path, vertices, "vertices", limits.max_points, "max_points");
   TriangleMesh mesh;
+  mesh.vertices.reserve(static_cast<std::size_t>(vertices));
   mesh.triangles.reserve(static_cast<std::size_t>(triangles));
   mesh.node_ids.reserve(static_cast<std::size_t>(triangles));
   const aiNode& root = *scene->mRootNode;
@@ -322,27 +329,25 @@ TriangleMesh loadMesh(const std::string& path, const MeshLoadOptions& options)
   if (!ply && !vrml && !assimp)
     throw FormatError(detail::where(path) + "unknown mesh extension '" + ext + "' (" +
                       kMeshExtensions + ")");
+  const InputLimits& limits = options.limits;
   detail::requireReadableFile(path);
+  detail::checkFileSize(path, limits);
 
   // The file's own conventions: Collada says them, VRML is Y up, the rest Z up in metres.
   ColladaAsset file;
   file.up = vrml ? detail::Up::y : detail::Up::z;
   if (ext == ".dae") {
-    const std::string text = detail::readFileToString(path);
+    const std::string text = detail::readFileToString(path, limits);
     file = scanColladaAsset(path, text);
     checkColladaForAssimp(path, text);
   }
-  TriangleMesh mesh = ply    ? detail::readPlyMesh(path, options.max_triangles)
-                      : vrml ? detail::readVrml(path, options.max_triangles)
-                             : readWithAssimp(path, ext, options.max_triangles);
+  TriangleMesh mesh = ply    ? detail::readPlyMesh(path, limits)
+                      : vrml ? detail::readVrml(path, limits)
+                             : readWithAssimp(path, ext, limits);
   if (mesh.triangles.empty())
     throw FormatError(
         detail::where(path) + "no triangles" +
         (ply ? " (a PLY without faces is a point cloud: use loadCloud)" : ""));
-  if (options.max_triangles > 0 && mesh.triangles.size() > options.max_triangles)
-    throw FormatError(detail::where(path) + std::to_string(mesh.triangles.size()) +
-                      " triangles exceed " + std::to_string(options.max_triangles) +
-                      " (MeshLoadOptions::max_triangles)");
 
   const detail::Up up = options.up_axis == MeshLoadOptions::UpAxis::from_file ? file.up
                         : options.up_axis == MeshLoadOptions::UpAxis::y ? detail::Up::y

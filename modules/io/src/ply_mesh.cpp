@@ -74,10 +74,11 @@ public:
   /// Reads a list length: a non-negative whole number.
   std::uint64_t readCount(PlyType t, const char* what)
   {
+    // An ASCII count can be any whole number, 1e300 included: bounded before the cast.
     const double n = read(t, what);
-    if (!(n >= 0.0 && n == std::floor(n)))
+    if (!(n >= 0.0 && n <= 4294967295.0 && n == std::floor(n)))
       throw FormatError(detail::where(path_) + what + ": invalid list length " +
-                        std::to_string(n));
+                        detail::numberText(n));
     return static_cast<std::uint64_t>(n);
   }
 
@@ -232,7 +233,7 @@ void readVertices(const std::string& path, const PlyElement& e, PlyBody& body,
 }
 
 void readFaces(const std::string& path, const PlyElement& e, PlyBody& body,
-               std::uint64_t max_triangles, TriangleMesh& mesh)
+               const InputLimits& limits, TriangleMesh& mesh)
 {
   int indices = findProperty(e, "vertex_indices");
   if (indices < 0)
@@ -250,6 +251,7 @@ void readFaces(const std::string& path, const PlyElement& e, PlyBody& body,
     throw FormatError(detail::where(path) + "more than one face element");
   // Most faces are triangles; the reservation is bounded by the file size (checked by the
   // caller) and by max_triangles.
+  const std::uint64_t max_triangles = limits.max_triangles;
   std::uint64_t reserve = e.count;
   if (max_triangles > 0)
     reserve = std::min(reserve, max_triangles + 1);
@@ -264,7 +266,7 @@ void readFaces(const std::string& path, const PlyElement& e, PlyBody& body,
         const double l = body.read(p.type, "face data");
         if (l < 0 || l > kMaxPartLabel)
           throw FormatError(detail::where(path) + "face " + std::to_string(f) +
-                            ": label " + std::to_string(static_cast<long long>(l)) +
+                            ": label " + detail::numberText(l) +
                             " is not a part label (expected 0.." +
                             std::to_string(kMaxPartLabel) + ")");
         face_label = static_cast<std::uint32_t>(l);
@@ -278,8 +280,7 @@ void readFaces(const std::string& path, const PlyElement& e, PlyBody& body,
           const double idx = body.read(p.type, "face data");
           if (idx < 0 || idx > std::numeric_limits<std::uint32_t>::max())
             throw FormatError(detail::where(path) + "face " + std::to_string(f) +
-                              ": invalid vertex index " +
-                              std::to_string(static_cast<long long>(idx)));
+                              ": invalid vertex index " + detail::numberText(idx));
           const auto current = static_cast<std::uint32_t>(idx);
           if (k == 0)
             first = current;
@@ -287,7 +288,7 @@ void readFaces(const std::string& path, const PlyElement& e, PlyBody& body,
             if (max_triangles > 0 && mesh.triangles.size() >= max_triangles)
               throw FormatError(detail::where(path) + "more than " +
                                 std::to_string(max_triangles) +
-                                " triangles (MeshLoadOptions::max_triangles)");
+                                " triangles (the limit, InputLimits::max_triangles)");
             mesh.triangles.push_back({first, previous, current});
           }
           previous = current;
@@ -342,12 +343,16 @@ private:
 
 namespace detail {
 
-TriangleMesh readPlyMesh(const std::string& path, std::uint64_t max_triangles)
+TriangleMesh readPlyMesh(const std::string& path, const InputLimits& limits)
 {
   requireReadableFile(path);
+  checkFileSize(path, limits);
   std::ifstream in(path, std::ios::binary);
   const PlyHeader header = readPlyHeader(path, in);
-  // Refuse counts the file cannot hold before anything is allocated for them.
+  // Refuse counts over the limits or that the file cannot hold before anything is
+  // allocated for them.
+  if (const PlyElement* vertex = findElement(header, "vertex"))
+    checkLimit(path, vertex->count, "vertices", limits.max_points, "max_points");
   checkPlyBodySize(path, in, header);
   PlyBody body(path, in, header.format);
   TriangleMesh mesh;
@@ -357,7 +362,7 @@ TriangleMesh readPlyMesh(const std::string& path, std::uint64_t max_triangles)
       readVertices(path, e, body, mesh);
       have_vertices = true;
     } else if (e.name == "face")
-      readFaces(path, e, body, max_triangles, mesh);
+      readFaces(path, e, body, limits, mesh);
     else
       for (std::uint64_t i = 0; i < e.count; ++i)
         for (const auto& p : e.properties)

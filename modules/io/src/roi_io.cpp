@@ -101,7 +101,12 @@ Box readBox(const std::string& path, std::size_t index, const YAML::Node& node)
   }
   const Eigen::Vector3d center = readVector(prefix, node, "center", false);
   const Eigen::Vector3d size = readVector(prefix, node, "size", true);
-  return Box(center, size, name);
+  // Finite numbers can still overflow to an infinite corner (e.g. size 1e308 at 1e308).
+  const Box box(center, size, name);
+  if (!box.min().allFinite() || !box.max().allFinite())
+    throw FormatError(prefix + "center +- size/2 overflows: center " +
+                      describe(node["center"]) + ", size " + describe(node["size"]));
+  return box;
 }
 
 /// The shortest decimal text that reads back as exactly `v` (at most 17 digits).
@@ -192,7 +197,7 @@ Roi parseRoi(const std::string& path, const std::string& text)
 
 Roi loadRoi(const std::string& path)
 {
-  const std::string text = detail::readFileToString(path);
+  const std::string text = detail::readFileToString(path, defaultInputLimits());
   try {
     return parseRoi(path, text);
   } catch (const YAML::Exception& e) {

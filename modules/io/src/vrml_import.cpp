@@ -468,13 +468,20 @@ const std::set<std::string, std::less<>>& standardNodeTypes()
 /// Turns the node tree into triangles in file coordinates.
 class SceneBuilder {
 public:
-  SceneBuilder(const std::string& path, std::uint64_t max_triangles)
-      : path_(path), max_triangles_(max_triangles)
+  SceneBuilder(const std::string& path, const InputLimits& limits)
+      : path_(path), limits_(limits)
   {
   }
 
   void walk(const Node& n, const Eigen::Affine3d& M, const std::string& name)
   {
+    // DEF/USE makes a DAG: nested USEs of groups can multiply to 2^depth instances,
+    // with or without geometry. A real scene has fewer node instances than triangles.
+    const std::uint64_t max = limits_.max_triangles;
+    if (max > 0 && ++instances_ > max)
+      throw FormatError(detail::where(path_) + "more than " + std::to_string(max) +
+                        " node instances, DEF/USE nested too often (the limit, "
+                        "InputLimits::max_triangles)");
     const std::string& here = n.def.empty() ? name : n.def;
     if (n.type == "Transform")
       walkChildren(n, "children", M * transformOf(n), here);
@@ -572,10 +579,10 @@ private:
 
   void addTriangle(std::uint32_t a, std::uint32_t b, std::uint32_t c, std::uint32_t node)
   {
-    if (max_triangles_ > 0 && mesh_.triangles.size() >= max_triangles_)
-      throw FormatError(detail::where(path_) + "more than " +
-                        std::to_string(max_triangles_) +
-                        " triangles (MeshLoadOptions::max_triangles)");
+    const std::uint64_t max = limits_.max_triangles;
+    if (max > 0 && mesh_.triangles.size() >= max)
+      throw FormatError(detail::where(path_) + "more than " + std::to_string(max) +
+                        " triangles (the limit, InputLimits::max_triangles)");
     if (flip_)
       std::swap(b, c);
     mesh_.triangles.push_back({a, b, c});
@@ -586,6 +593,10 @@ private:
   {
     if (mesh_.vertices.size() >= std::numeric_limits<std::uint32_t>::max())
       throw FormatError(detail::where(path_) + "more than 2^32 - 1 vertices");
+    const std::uint64_t max = limits_.max_points;
+    if (max > 0 && mesh_.vertices.size() >= max)
+      throw FormatError(detail::where(path_) + "more than " + std::to_string(max) +
+                        " vertices (the limit, InputLimits::max_points)");
     mesh_.vertices.push_back((M * p).cast<float>());
     return static_cast<std::uint32_t>(mesh_.vertices.size() - 1);
   }
@@ -646,8 +657,8 @@ private:
       }
       if (v < 0 || v >= static_cast<double>(count) || v != std::floor(v))
         throw FormatError(detail::where(path_) + "line " + std::to_string(index->line) +
-                          ": coordIndex " + std::to_string(static_cast<long long>(v)) +
-                          " is out of range (" + std::to_string(count) + " points)");
+                          ": coordIndex " + detail::numberText(v) + " is out of range (" +
+                          std::to_string(count) + " points)");
       const auto current = static_cast<std::int64_t>(v);
       if (corner == 0)
         first = current;
@@ -738,7 +749,8 @@ private:
   }
 
   const std::string& path_;
-  std::uint64_t max_triangles_;
+  InputLimits limits_;
+  std::uint64_t instances_ = 0;
   TriangleMesh mesh_;
   std::unordered_map<std::string, std::uint32_t> ids_;
   std::set<std::string> skipped_;
@@ -750,9 +762,9 @@ private:
 
 namespace detail {
 
-TriangleMesh readVrml(const std::string& path, std::uint64_t max_triangles)
+TriangleMesh readVrml(const std::string& path, const InputLimits& limits)
 {
-  const std::string text = readFileToString(path);
+  const std::string text = readFileToString(path, limits);
   const std::string_view head = std::string_view(text).substr(0, text.find('\n'));
   if (head.rfind("#VRML V1.0", 0) == 0)
     throw FormatError(where(path) +
@@ -762,7 +774,7 @@ TriangleMesh readVrml(const std::string& path, std::uint64_t max_triangles)
                       "not a VRML97 file (expected the header '#VRML V2.0 utf8')");
   Parser parser(path, text);
   const std::vector<NodePtr> roots = parser.parseScene();
-  SceneBuilder builder(path, max_triangles);
+  SceneBuilder builder(path, limits);
   for (const auto& root : roots)
     builder.walk(*root, Eigen::Affine3d::Identity(), "");
   TriangleMesh mesh = std::move(builder.mesh());

@@ -1,5 +1,7 @@
 #include <cmath>
+#include <cstdint>
 
+#include <climits>
 #include <nlohmann/json.hpp>
 
 #include <plantnbv/common/error.h>
@@ -53,8 +55,14 @@ public:
   }
   int integer() const
   {
-    if (!j_.is_number_integer())
-      fail("expected an integer");
+    // get<int>() would wrap a larger integer around silently.
+    const bool in_range = j_.is_number_unsigned()
+                              ? j_.get<std::uint64_t>() <= INT_MAX
+                              : j_.is_number_integer() &&
+                                    j_.get<std::int64_t>() >= INT_MIN &&
+                                    j_.get<std::int64_t>() <= INT_MAX;
+    if (!in_range)
+      fail("expected an integer in the int range");
     return j_.get<int>();
   }
   bool boolean() const
@@ -145,7 +153,8 @@ void anatomyFromJson(const std::string& text, Plant& plant)
   json j;
   try {
     j = json::parse(text);
-  } catch (const json::parse_error& e) {
+  } catch (const json::exception& e) {
+    // parse_error, and out_of_range for a number beyond double (found by fuzzing).
     throw FormatError(std::string("anatomy JSON: not JSON (") + e.what() + ")");
   }
   const Reader r(j, "");

@@ -31,6 +31,7 @@
 #include <plantnbv/common/error.h>
 #include <plantnbv/viz/snapshot.h>
 
+#include "window_image.h"
 #include "x_display.h"
 
 namespace plantnbv {
@@ -854,34 +855,7 @@ RgbImage SceneSnapshot::renderImage() const
   addLabelActors(impl_->labels, pose, c, overlay);
   window->Render();
 
-  vtkNew<vtkWindowToImageFilter> grab;
-  grab->SetInput(window);
-  grab->SetInputBufferTypeToRGB();
-  grab->ReadFrontBufferOff();
-  grab->ShouldRerenderOff();
-  grab->Update();
-  vtkImageData* pixels = grab->GetOutput();
-  int dims[3];
-  pixels->GetDimensions(dims);
-  auto* scalars =
-      vtkUnsignedCharArray::SafeDownCast(pixels->GetPointData()->GetScalars());
-  if (dims[0] != c.width || dims[1] != c.height || scalars == nullptr ||
-      scalars->GetNumberOfComponents() != 3)
-    throw Error("VTK returned a " + std::to_string(dims[0]) + " x " +
-                std::to_string(dims[1]) + " image instead of " + std::to_string(c.width) +
-                " x " + std::to_string(c.height) + " RGB pixels");
-  RgbImage image;
-  image.width = c.width;
-  image.height = c.height;
-  image.rgb.resize(std::size_t(3) * c.width * c.height);
-  const std::uint8_t* src = scalars->GetPointer(0);
-  const std::size_t row_bytes = std::size_t(3) * c.width;
-  // VTK's rows start at the bottom.
-  for (int y = 0; y < c.height; ++y)
-    std::memcpy(image.rgb.data() + y * row_bytes, src + (c.height - 1 - y) * row_bytes,
-                row_bytes);
-
-  grab->SetInput(nullptr);
+  RgbImage image = detail::readWindowImage(window, c.width, c.height);
   window->Finalize();
   return image;
 }

@@ -88,9 +88,15 @@ struct TrialSpec {
 /// \brief FNV-1a, 64 bits, of a trial id (stable across platforms and runs).
 std::uint64_t trialIdHash(const std::string& id);
 
+/// \brief The most trials a campaign may expand to (the paper's study has 2,760; each
+/// trial is one result file): a few lines of YAML (repetitions: 2000000000) must not
+/// exhaust memory.
+constexpr std::size_t kMaxCampaignTrials = 100'000;
+
 /// \brief All trials of the campaign, study by study, in a fixed order. Ids are unique
 /// and seeds depend only on the campaign seed and the id.
-/// \throws InvalidArgumentError if the definition is invalid.
+/// \throws InvalidArgumentError if the definition is invalid or expands to more than
+/// kMaxCampaignTrials trials.
 std::vector<TrialSpec> expandCampaign(const CampaignDefinition& definition);
 
 } // namespace plantnbv

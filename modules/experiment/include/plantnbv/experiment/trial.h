@@ -11,12 +11,13 @@
 #include <vector>
 
 #include <plantnbv/common/box.h>
+#include <plantnbv/common/error.h>
 #include <plantnbv/common/pose.h>
 #include <plantnbv/experiment/reconstruction_evaluator.h>
 #include <plantnbv/octree/occupancy_map.h>
-#include <plantnbv/plant/plant.h>
 #include <plantnbv/planning/cylindrical_sector_sampler.h>
 #include <plantnbv/planning/information_gain.h>
+#include <plantnbv/plant/plant.h>
 #include <plantnbv/sensor/camera_intrinsics.h>
 #include <plantnbv/sensor/noise_model.h>
 #include <plantnbv/sensor/sensor_scene.h>
@@ -35,7 +36,10 @@ PlannerKind plannerKindFromName(const std::string& name);
 
 /// \brief The paper's base of the plant (Table 1); TrialConfig::initial_view is given
 /// for a plant standing there.
-inline Eigen::Vector3d paperPlantBase() { return {1.0, 0.0, 0.8}; }
+inline Eigen::Vector3d paperPlantBase()
+{
+  return {1.0, 0.0, 0.8};
+}
 
 /// \brief Everything a trial needs besides the plant and the ROIs. Defaults: the paper's
 /// Table 1 (data/paper.yaml), the L515 at 640 x 480, noise off.
@@ -43,7 +47,7 @@ struct TrialConfig {
   CameraIntrinsics camera = CameraIntrinsics::l515(L515Mode::vga_640x480);
   /// Off by default (the paper's sensor was noise-free); its seed is derived from `seed`.
   NoiseConfig noise;
-  SceneConfig scene;       ///< floor and support by default
+  SceneConfig scene; ///< floor and support by default
   OccupancyMap::Config map;
 
   PlannerKind planner = PlannerKind::nbv;
@@ -61,22 +65,43 @@ struct TrialConfig {
 
   /// v0 (Table 1) for a plant whose base is at paperPlantBase(); it is translated with
   /// the plant's base, so that every planner starts from the same view of the plant.
-  Viewpoint initial_view = Pose::fromXyzQuat(0.646, 0.353, 1.383, 0.0, 0.0, -0.383, 0.924);
-  int views = 10;          ///< the view budget, v0 included
-  std::uint64_t seed = 0;  ///< the trial's seed (planner draws, noise, ground truth)
-  int threads = 0;         ///< 0: OpenMP's default; results do not depend on it
+  Viewpoint initial_view =
+      Pose::fromXyzQuat(0.646, 0.353, 1.383, 0.0, 0.0, -0.383, 0.924);
+  int views = 10;         ///< the view budget, v0 included
+  std::uint64_t seed = 0; ///< the trial's seed (planner draws, noise, ground truth)
+  int threads = 0;        ///< 0: OpenMP's default; results do not depend on it
+  /// Wall-clock limit of one run() in seconds; 0: none. Checked after setup and after
+  /// every view, so a trial overruns it by at most one view's time.
+  double time_limit_s = 0.0;
+  /// validate() refuses a config whose estimatedMemoryBytes() exceed this.
+  double memory_cap_bytes = 8.0 * 1024 * 1024 * 1024;
 
-  /// \throws InvalidArgumentError naming the first bad field and its value.
+  /// \brief An upper estimate of the memory a trial needs, in bytes: the voxels of one
+  /// view's free space (the camera's frustum out to the map's range, at the map's
+  /// resolution; views overlap, so a whole trial's map stays near it) at 32 bytes each
+  /// (an OcTree leaf and its share of the inner nodes), plus the depth image's buffers
+  /// and the gain's rays. Measured: 0.21 GB peak for a whole 10-view trial at 3 mm (the
+  /// estimate: 0.25 GB), 0.72 GB at 1.5 mm (2.0 GB). docs/reliability.md.
+  double estimatedMemoryBytes() const;
+
+  /// \throws InvalidArgumentError naming the first bad field and its value (NaN and
+  /// infinities included), or the memory estimate when it is over memory_cap_bytes.
   void validate() const;
+};
+
+/// \brief Thrown by Trial::run when TrialConfig::time_limit_s has passed.
+class TimeLimitError : public Error {
+public:
+  using Error::Error;
 };
 
 /// \brief What happened at one view.
 struct TrialStep {
-  int index = 0;            ///< 0 = v0
+  int index = 0; ///< 0 = v0
   Viewpoint view;
-  double gain = 0.0;        ///< the chosen view's gain (bits); NaN for v0
+  double gain = 0.0; ///< the chosen view's gain (bits); NaN for v0
   std::size_t candidates = 0;
-  double plan_ms = 0.0;     ///< 0 for v0
+  double plan_ms = 0.0; ///< 0 for v0
   double capture_ms = 0.0;
   double insert_ms = 0.0;
   double eval_ms = 0.0;
@@ -122,7 +147,10 @@ public:
   /// \brief The attention ROI of the NBV planner (also used to report the gain of the
   /// baselines' views). Empty: every voxel counts (plain volumetric NBV).
   void setAttentionRoi(const Roi& roi) { attention_ = roi; }
-  void setEvaluationLevels(const std::vector<EvaluationLevel>& levels) { levels_ = levels; }
+  void setEvaluationLevels(const std::vector<EvaluationLevel>& levels)
+  {
+    levels_ = levels;
+  }
   /// \brief Called after every view, e.g. to print progress.
   void setStepCallback(std::function<void(const TrialStep&)> callback)
   {
@@ -130,7 +158,8 @@ public:
   }
 
   /// \brief Runs the trial from an empty map. \throws InvalidArgumentError if no plant
-  /// was set; the modules' errors otherwise.
+  /// was set; TimeLimitError after TrialConfig::time_limit_s; the modules' errors
+  /// otherwise.
   void run(TrialResult& result);
 
   /// \brief The map after run() (empty before).

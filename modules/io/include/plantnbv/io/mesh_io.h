@@ -33,10 +33,10 @@
 ///
 /// Thread safety: the functions keep no state; concurrent calls are safe.
 
-#include <cstdint>
 #include <string>
 
 #include <plantnbv/common/triangle_mesh.h>
+#include <plantnbv/io/input_limits.h>
 
 namespace plantnbv {
 namespace io {
@@ -49,19 +49,20 @@ struct MeshLoadOptions {
   /// Metres per file unit; 0 = from the file (Collada <unit>, 1 for the other formats).
   /// A non-zero value replaces the file's unit (it does not multiply it).
   double scale = 0.0;
-  /// Refuse files with more triangles than this (protects memory); 0 = no limit. PLY,
-  /// VRML and binary STL are refused before the triangles are allocated; for the other
-  /// Assimp formats, before they are copied out of Assimp's scene.
-  std::uint64_t max_triangles = 50'000'000;
+  /// Caps on the file size, vertices and triangles (input_limits.h); by default the
+  /// process-wide defaultInputLimits() when the options are made.
+  InputLimits limits = defaultInputLimits();
 };
 
 /// \brief Reads a mesh (the format from the extension, case-insensitive). Degenerate
 /// faces are kept (they carry zero area). A PLY face `label` (any integer type) fills
 /// `TriangleMesh::labels`.
-/// \throws IoError if the file is missing or unreadable; FormatError if it cannot be
-/// parsed, holds no triangles, has non-finite vertices or a PLY label outside PartLabel,
-/// exceeds max_triangles, or the extension is unknown (the message names it and the
-/// accepted ones); InvalidArgumentError for a negative or non-finite scale.
+/// \throws IoError if the file is missing or unreadable; FormatError naming the file if
+/// it cannot be parsed, holds no triangles, has a non-finite (NaN or infinite) vertex
+/// coordinate (the message names the vertex) or a PLY label outside PartLabel, exceeds
+/// a cap of the limits (the message names it), or the extension is unknown (the message
+/// names it and the accepted ones); InvalidArgumentError for a negative or non-finite
+/// scale.
 TriangleMesh loadMesh(const std::string& path, const MeshLoadOptions& options = {});
 
 /// \brief Writes a binary little-endian PLY: vertex x y z (float), face vertex_indices

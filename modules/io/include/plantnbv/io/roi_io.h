@@ -17,11 +17,14 @@ namespace plantnbv {
 namespace io {
 
 /// \brief Reads an ROI file. Keys other than `boxes` (top level) and `name`, `center`,
-/// `size` (in a box) are rejected.
+/// `size` (in a box) are rejected. A file over defaultInputLimits().max_file_bytes is
+/// refused before it is read.
 /// \throws IoError if missing or unreadable; FormatError naming the file, the box index
 /// (from 0) and the key, e.g. "rois.yaml: box 2: size must be 3 non-negative numbers,
 /// got [0.1, -0.2, 0.3]", for malformed YAML, a missing key, a vector without exactly 3
-/// numbers, a negative or non-finite size, an unknown key, or a file without boxes.
+/// numbers, a NaN or infinite centre or size, a negative size (min > max), corners that
+/// overflow to infinity, an unknown key, or a file without boxes; FormatError naming the
+/// cap for a file over the size limit.
 Roi loadRoi(const std::string& path);
 
 /// \brief Writes an ROI file that loadRoi reads back exactly: each number in the

@@ -1,0 +1,256 @@
+#!/usr/bin/env python3
+"""Writes the seed corpora of the fuzz targets into tests/fuzz/corpus/<target>/.
+
+Seeds are small valid files of each format (a few hundred bytes: libFuzzer mutates
+small inputs fastest) covering the features the readers handle, plus the fixtures of
+data/ that are small enough. Run it again after changing it; the files are committed.
+"""
+import json
+import shutil
+import struct
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[2]
+OUT = ROOT / "tests" / "fuzz" / "corpus"
+FIXTURES = ROOT / "data" / "fixtures"
+
+
+def put(target, name, content):
+    d = OUT / target
+    d.mkdir(parents=True, exist_ok=True)
+    (d / name).write_bytes(content.encode() if isinstance(content, str) else content)
+
+
+def lzf_literal(data):
+    """LZF data made of literal runs only (valid, uncompressed): PCL's decoder reads it."""
+    out = bytearray()
+    for i in range(0, len(data), 32):
+        chunk = data[i:i + 32]
+        out.append(len(chunk) - 1)
+        out += chunk
+    return bytes(out)
+
+
+def pcd():
+    t = "pcd_cloud"
+    put(t, "ascii_xyz.pcd",
+        "# .PCD v0.7\nVERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\n"
+        "WIDTH 4\nHEIGHT 1\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS 4\nDATA ascii\n"
+        "1 2 3\n0.5 -0.25 1e-3\nnan nan nan\n4 5 6\n")
+    put(t, "organized_ascii.pcd",
+        "VERSION 0.7\nFIELDS x y z label\nSIZE 4 4 4 4\nTYPE F F F U\nCOUNT 1 1 1 1\n"
+        "WIDTH 2\nHEIGHT 2\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS 4\nDATA ascii\n"
+        "0 0 1 1\nnan nan nan 0\n1 1 1 2\n0 1 inf 3\n")
+    put(t, "double_and_count.pcd",
+        "VERSION 0.7\nFIELDS x y z normal\nSIZE 8 8 8 4\nTYPE F F F F\nCOUNT 1 1 1 3\n"
+        "WIDTH 2\nHEIGHT 1\nPOINTS 2\nDATA ascii\n1 2 3 0 0 1\n4 5 6 1 0 0\n")
+    header = ("VERSION 0.7\nFIELDS x y z label\nSIZE 4 4 4 4\nTYPE F F F U\n"
+              "COUNT 1 1 1 1\nWIDTH 3\nHEIGHT 1\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS 3\n")
+    points = [(0.0, 0.0, 0.0, 1), (1.0, 0.5, -2.0, 2), (3.0, 4.0, 5.0, 7)]
+    body = b"".join(struct.pack("<fffI", *p) for p in points)
+    put(t, "binary_xyzl.pcd", header.encode() + b"DATA binary\n" + body)
+    # binary_compressed stores the fields one after the other (x x x y y y ...).
+    soa = b"".join(struct.pack("<" + ("f" if f < 3 else "I") * 3, *[p[f] for p in points])
+                   for f in range(4))
+    packed = lzf_literal(soa)
+    put(t, "binary_compressed.pcd", header.encode() + b"DATA binary_compressed\n" +
+        struct.pack("<II", len(packed), len(soa)) + packed)
+    put(t, "int_types.pcd",
+        "VERSION 0.7\nFIELDS x y z label\nSIZE 2 1 8 2\nTYPE I U I U\nCOUNT 1 1 1 1\n"
+        "WIDTH 2\nHEIGHT 1\nPOINTS 2\nDATA ascii\n-3 200 7 9\n1 2 3 4\n")
+
+
+def ply_header(fmt, elements):
+    lines = ["ply", "format %s 1.0" % fmt, "comment seed"]
+    for name, count, props in elements:
+        lines.append("element %s %d" % (name, count))
+        lines += ["property " + p for p in props]
+    return ("\n".join(lines) + "\nend_header\n").encode()
+
+
+def ply():
+    c = "ply_cloud"
+    xyz = ["float x", "float y", "float z"]
+    put(c, "ascii_xyz.ply", ply_header("ascii", [("vertex", 3, xyz)]) +
+        b"0 0 0\n1 2 3\n-1 0.5 nan\n")
+    put(c, "binary_le_xyzl.ply",
+        ply_header("binary_little_endian", [("vertex", 2, xyz + ["uint label"])]) +
+        struct.pack("<fffIfffI", 0, 0, 0, 1, 1, 2, 3, 4))
+    put(c, "binary_be_double.ply",
+        ply_header("binary_big_endian",
+                   [("vertex", 2, ["double x", "double y", "double z", "uchar red"])]) +
+        struct.pack(">dddBdddB", 1, 2, 3, 255, 4, 5, 6, 0))
+    put(c, "with_faces.ply",
+        ply_header("ascii", [("vertex", 3, xyz), ("face", 1, ["list uchar int vertex_indices"])])
+        + b"0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n")
+    put(c, "normals_colors.ply",
+        ply_header("ascii", [("vertex", 2, xyz + ["float nx", "float ny", "float nz",
+                                                  "uchar red", "uchar green", "uchar blue"])])
+        + b"0 0 0 0 0 1 255 0 0\n1 1 1 1 0 0 0 255 0\n")
+
+    m = "mesh_ply"
+    tri = ["list uchar int vertex_indices"]
+    put(m, "ascii_labels.ply",
+        ply_header("ascii", [("vertex", 4, xyz),
+                             ("face", 2, tri + ["uchar label"])]) +
+        b"0 0 0\n1 0 0\n1 1 0\n0 1 0\n3 0 1 2 1\n3 0 2 3 2\n")
+    put(m, "ascii_quad_crlf.ply",
+        (ply_header("ascii", [("vertex", 4, xyz), ("face", 1, ["list uchar uint vertex_index"])])
+         + b"0 0 0\n1 0 0\n1 1 0\n0 1 0\n4 0 1 2 3\n").replace(b"\n", b"\r\n"))
+    body = struct.pack("<12f", 0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 1)
+    body += struct.pack("<B3iI", 3, 0, 1, 2, 3) + struct.pack("<B4iI", 4, 0, 1, 2, 3, 1)
+    put(m, "binary_le_labels.ply",
+        ply_header("binary_little_endian",
+                   [("vertex", 4, xyz), ("face", 2, tri + ["uint label"])]) + body)
+    body = struct.pack(">9d", 0, 0, 0, 1, 0, 0, 0, 1, 0)
+    body += struct.pack(">H3hh", 3, 0, 1, 2, 4)
+    put(m, "binary_be_short.ply",
+        ply_header("binary_big_endian",
+                   [("vertex", 3, ["double x", "double y", "double z"]),
+                    ("face", 1, ["list ushort short vertex_indices", "short label"])]) + body)
+    put(m, "extra_elements.ply",
+        ply_header("ascii", [("camera", 1, ["float view_px"]), ("vertex", 3, xyz + ["float s"]),
+                             ("face", 1, tri + ["list uchar float texcoord"]),
+                             ("edge", 1, ["int vertex1", "int vertex2"])]) +
+        b"0.5\n0 0 0 1\n1 0 0 1\n0 1 0 1\n3 0 1 2 2 0.5 0.5\n0 1\n")
+
+
+def vrml():
+    t = "mesh_vrml"
+    put(t, "plant_yup.wrl", (FIXTURES / "plant_yup.wrl").read_bytes())
+    put(t, "primitives.wrl", """#VRML V2.0 utf8
+DEF Plant Transform {
+  translation 0 0.1 0 rotation 1 0 0 0.5 scale 1 2 1
+  center 0 0.05 0 scaleOrientation 0 0 1 0.3
+  children [
+    DEF Pot Shape { geometry Box { size 0.2 0.1 0.2 } }
+    Transform { translation 0 0.3 0 children Shape { geometry Cylinder { radius 0.01 height 0.5 top FALSE } } }
+    Shape { geometry Cone { bottomRadius 0.05 height 0.1 side TRUE bottom FALSE } }
+    DEF Fruit Shape { geometry Sphere { radius 0.02 } }
+  ]
+}
+Transform { translation 0.1 0 0 scale -1 1 1 children [ USE Fruit ] }
+""")
+    put(t, "groups.wrl", """#VRML V2.0 utf8
+PROTO Leaf [ field SFFloat size 1 ] { Shape { geometry Box { size IS size } } }
+EXTERNPROTO Stem [ ] "stem.wrl"
+Group { children [
+  Switch { whichChoice 1 choice [ Shape { geometry Box { } }
+    Shape { geometry IndexedFaceSet { ccw FALSE
+      coord DEF C Coordinate { point [ 0 0 0, 1 0 0, 1 1 0, 0 1 0 ] }
+      coordIndex [ 0, 1, 2, 3, -1, 0 2 1 ] } } ] }
+  LOD { level [ Shape { geometry IndexedFaceSet { coord USE C coordIndex [ 0 1 2 ] } } ] }
+  Collision { children [ Billboard { children [ Anchor { children [ Leaf { } ] } ] } ] }
+  Inline { url "other.wrl" }
+  Script { field SFFloat x 0x1F eventIn SFBool go }
+] }
+ROUTE A.b TO C.d
+""")
+
+
+def assimp():
+    # The first byte picks the format: 0 .obj, 1 .stl, 2 .dae (fuzz_mesh_assimp.cpp);
+    # 0x10 forces Y up.
+    t = "mesh_assimp"
+    for name, kind in [("two_groups.obj", 0), ("two_objects.obj", 0), ("tetra_ascii.stl", 1),
+                       ("plant_cm_yup.dae", 2), ("plant_cm_zup.dae", 2)]:
+        put(t, name, bytes([kind]) + (FIXTURES / name).read_bytes())
+    put(t, "quads.obj", bytes([0x10]) + b"o leaf\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\n"
+        b"vn 0 0 1\nvt 0 0\nf 1/1/1 2/1/1 3/1/1 4/1/1\ng stem\nf -4 -3 -2\n")
+    tris = struct.pack("<12f", 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1, 0) + b"\0\0"
+    tris += struct.pack("<12f", 0, 0, 1, 1, 0, 0, 1, 1, 0, 0, 1, 0) + b"\0\0"
+    put(t, "binary.stl", bytes([1]) + b"solid binary".ljust(80, b" ") +
+        struct.pack("<I", 2) + tris)
+    put(t, "x_up.dae", bytes([2]) + b"""<?xml version="1.0"?>
+<COLLADA xmlns="http://www.collada.org/2005/11/COLLADASchema" version="1.4.1">
+<asset><unit meter="0.001"/><up_axis>X_UP</up_axis></asset>
+<library_geometries><geometry id="g"><mesh>
+<source id="p"><float_array id="pa" count="9">0 0 0 1 0 0 0 1 0</float_array>
+<technique_common><accessor source="#pa" count="3" stride="3">
+<param name="X" type="float"/><param name="Y" type="float"/><param name="Z" type="float"/>
+</accessor></technique_common></source>
+<vertices id="v"><input semantic="POSITION" source="#p"/></vertices>
+<polylist count="1"><input semantic="VERTEX" source="#v" offset="0"/>
+<vcount>3</vcount><p>0 1 2</p></polylist>
+</mesh></geometry></library_geometries>
+<library_visual_scenes><visual_scene id="s"><node name="leaf">
+<matrix>1 0 0 0 0 1 0 0 0 0 1 0 0 0 0 1</matrix>
+<instance_geometry url="#g"/></node></visual_scene></library_visual_scenes>
+<scene><instance_visual_scene url="#s"/></scene>
+</COLLADA>
+""")
+
+
+def roi():
+    t = "roi_yaml"
+    put(t, "rois.yaml", (FIXTURES / "rois.yaml").read_bytes())
+    put(t, "flow.yaml", "boxes: [{name: 'a b', center: [1, 0, 1.15], size: [+0.05, 5e-2, .7]},"
+        " {center: [0, 0, 0], size: [0, 0, 0]}]\n")
+    put(t, "quoted.yaml", "# comment\nboxes:\n  - name: \"null\"\n    center: [-1.5e0, 0x10, 2]\n"
+        "    size: [1, 2, 3]\n")
+
+
+def anatomy():
+    t = "anatomy_json"
+    leaflet = {"base": [1.0, 0.01, 0.9], "tip": [1.0, 0.08, 0.92], "length_m": 0.07,
+               "width_m": 0.03, "terminal": False}
+    plant = {
+        "format": "plantnbv-anatomy", "version": 1, "name": "tomato_seed3",
+        "base_position": [1.0, 0.0, 0.8], "yaw_rad": 0.5235987755982988,
+        "stem": {"axis": [[1.0, 0.0, 0.8], [1.0, 0.0, 1.0], [1.0, 0.0, 1.3]],
+                 "radius_m": [0.006, 0.005, 0.0], "height_m": 0.5, "top_height_m": 0.55},
+        "leaves": [{"node": {"leaf_index": 0, "position": [1.0, 0.0, 0.9],
+                             "stem_point": [1.0, 0.0, 0.9],
+                             "petiole_direction": [0.0, 1.0, 0.0]},
+                    "axis": [[1.0, 0.0, 0.9], [1.0, 0.1, 0.95]], "length_m": 0.12,
+                    "full_leaflet_count": 3,
+                    "leaflets": [leaflet, dict(leaflet, terminal=True)]}],
+        "trusses": [{"leaf_below": 0, "attachment": [1.0, 0.0, 0.95],
+                     "peduncle": [[1.0, 0.0, 0.95], [1.0, -0.03, 0.93]],
+                     "fruits": [{"center": [1.0, -0.04, 0.9], "radius_m": 0.02}]}]}
+    put(t, "plant.json", json.dumps(plant, indent=1))
+    put(t, "no_leaves.json", json.dumps(dict(plant, leaves=[], trusses=[])))
+
+
+def campaign():
+    t = "campaign_yaml"
+    for name in ["quick.yaml", "paper.yaml"]:
+        put(t, name, (ROOT / "data" / "campaigns" / name).read_bytes())
+    put(t, "models.yaml", """name: models
+seed: 7
+plants:
+  - {model: plant.ply, labels: "stem=Stem.*,leaflet=Leaf.*", rois: rois.yaml, name: m1}
+  - {seed: 2, stage: 0.5, simplified: true}
+yaws_deg: [0, -45.5]
+views: 3
+candidates: 9
+resolution: 0.005
+repetitions: 2
+levels: [whole_plant, model_rois]
+trial:
+  camera: l515-640
+  noise: true
+  initial_view: {position: [0.6, 0.3, 1.3], orientation: [0, 0, 0, 1]}
+  sector: {radius: 0.4, height: 0.7, bottom: 0.0, angle_deg: 90, rows: 3, cols: 3}
+  map: {prob_hit: 0.7, prob_miss: 0.4, clamp_min: 0.12, clamp_max: 0.97,
+        occupancy_threshold: 0.5, max_range: 0.75}
+  gain: {raycast_range: 0.75, rays_x: 32, rays_y: 24, visibility_weighted: false}
+  scene: {floor: true, support: false}
+  stop_gain_bits: 0.5
+studies:
+  - name: s
+    planners:
+      - {type: nbv, attention: rois.yaml, name: mine}
+      - {type: predefined, patterns: [2]}
+    candidates: [9, 18]
+    resolutions: [0.004]
+""")
+
+
+if __name__ == "__main__":
+    if OUT.exists():
+        shutil.rmtree(OUT)
+    for make in [pcd, ply, vrml, assimp, roi, anatomy, campaign]:
+        make()
+    for d in sorted(OUT.iterdir()):
+        print("%-14s %d files" % (d.name, len(list(d.iterdir()))))
