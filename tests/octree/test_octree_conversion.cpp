@@ -273,6 +273,20 @@ TEST(OctreeConversion, WriteAndReadBtAndOt)
     EXPECT_EQ(our_bytes.str(), octomap_bytes.str()) << ext;
     std::filesystem::remove(path);
   }
+  // Free leaves, unknown children and pruned inner nodes too (a ray's free voxels end
+  // in an occupied one); the tree is not pruned, so its codes are mixed.
+  octomap::OcTree mixed(res);
+  mixed.insertRay(octomap::point3d(0.0f, 0.0f, 0.0f), octomap::point3d(0.4f, 0.15f, 0.05f));
+  mixed.updateNode(octomap::point3d(-0.1f, 0.02f, 0.0f), false);
+  ASSERT_GT(mixed.size(), 20u);
+  const std::string mixed_path = tempPath("mixed.bt");
+  plantnbv::writeOcTree(mixed_path, mixed);
+  std::ostringstream octomap_bytes, our_bytes;
+  mixed.writeBinaryConst(octomap_bytes);
+  our_bytes << std::ifstream(mixed_path, std::ios::binary).rdbuf();
+  EXPECT_EQ(our_bytes.str(), octomap_bytes.str());
+  std::filesystem::remove(mixed_path);
+
   // The caller's tree is not turned into maximum likelihood by writing .bt.
   const auto* node =
       tree->search(centre(*voxels.begin(), res)[0], centre(*voxels.begin(), res)[1],

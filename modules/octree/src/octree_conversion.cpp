@@ -37,6 +37,30 @@ bool startsWith(const std::string& s, const char* prefix)
   return s.rfind(prefix, 0) == 0;
 }
 
+/// OctoMap's binary (.bt) encoding of a node's subtree (OccupancyOcTreeBase::
+/// writeBinaryNode), written here because the library's writer prints "Writing N nodes"
+/// to stderr: two bytes of 2-bit child codes (children 0-3, then 4-7; bit 2i set for a
+/// free leaf, bit 2i+1 for an occupied one, both for an inner node, none for an unknown
+/// child), then the inner children in order. Recursion depth is the tree depth (16).
+void writeBinaryNode(std::ostream& out, const octomap::OcTree& tree,
+                     const octomap::OcTreeNode* node)
+{
+  unsigned char codes[2] = {0, 0};
+  for (unsigned i = 0; i < 8; ++i) {
+    if (!tree.nodeChildExists(node, i))
+      continue;
+    const octomap::OcTreeNode* child = tree.getNodeChild(node, i);
+    const unsigned code = tree.nodeHasChildren(child) ? 3u
+                          : tree.isNodeOccupied(child) ? 2u
+                                                       : 1u;
+    codes[i / 4] = static_cast<unsigned char>(codes[i / 4] | code << (2 * (i % 4)));
+  }
+  out.write(reinterpret_cast<const char*>(codes), 2);
+  for (unsigned i = 0; i < 8; ++i)
+    if (tree.nodeChildExists(node, i) && tree.nodeHasChildren(tree.getNodeChild(node, i)))
+      writeBinaryNode(out, tree, tree.getNodeChild(node, i));
+}
+
 } // namespace
 
 void occupiedVoxelCentres(const octomap::OcTree& tree, CloudXYZ& cloud,
@@ -216,9 +240,10 @@ void writeOcTree(const std::string& path, const octomap::OcTree& tree)
       << "\n# (feel free to add / change comments, but leave the first line as it is!)\n#\n"
       << "id " << tree.getTreeType() << "\nsize " << tree.size() << "\nres "
       << tree.getResolution() << "\ndata\n";
-  if (binary)
-    tree.writeBinaryData(out);
-  else
+  if (binary) {
+    if (tree.getRoot())
+      writeBinaryNode(out, tree, tree.getRoot());
+  } else
     tree.writeData(out);
   const bool ok = out.good();
   out.close();
