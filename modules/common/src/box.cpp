@@ -1,4 +1,7 @@
+#include <algorithm>
 #include <sstream>
+
+#include <Eigen/Geometry> // cross
 
 #include <plantnbv/common/box.h>
 #include <plantnbv/common/error.h>
@@ -42,6 +45,30 @@ bool Box::contains(const Eigen::Vector3d& p) const
 bool Box::contains(float x, float y, float z) const
 {
   return contains(Eigen::Vector3d(x, y, z));
+}
+
+bool Box::overlapsTriangle(const Eigen::Vector3d& a, const Eigen::Vector3d& b,
+                           const Eigen::Vector3d& c) const
+{
+  const Eigen::Vector3d half = 0.5 * size;
+  const Eigen::Vector3d v[3] = {a - center, b - center, c - center};
+  // Separated along `axis` if the triangle's projection lies beyond the box's radius.
+  auto separated = [&](const Eigen::Vector3d& axis) {
+    const double p0 = axis.dot(v[0]), p1 = axis.dot(v[1]), p2 = axis.dot(v[2]);
+    const double r = half.dot(axis.cwiseAbs());
+    return std::min({p0, p1, p2}) > r || std::max({p0, p1, p2}) < -r;
+  };
+  for (int i = 0; i < 3; ++i)
+    if (separated(Eigen::Vector3d::Unit(i)))
+      return false;
+  const Eigen::Vector3d edges[3] = {v[1] - v[0], v[2] - v[1], v[0] - v[2]};
+  if (separated(edges[0].cross(edges[1])))
+    return false;
+  for (const Eigen::Vector3d& e : edges)
+    for (int i = 0; i < 3; ++i)
+      if (separated(e.cross(Eigen::Vector3d::Unit(i))))
+        return false;
+  return true;
 }
 
 Roi::Roi(std::vector<Box> boxes) : boxes_(std::move(boxes)) {}

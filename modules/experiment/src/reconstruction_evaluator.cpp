@@ -1,10 +1,13 @@
 #include <plantnbv/experiment/reconstruction_evaluator.h>
 
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <set>
+#include <unordered_set>
 
 #include <pcl/point_cloud.h>
+#include <pcl/common/point_tests.h>
 #include <pcl/point_types.h>
 
 #include <plantnbv/common/error.h>
@@ -27,10 +30,45 @@ CloudXYZ::Ptr crop(const CloudXYZ::ConstPtr& cloud, const Roi& roi)
   return out;
 }
 
+/// The voxel of a coordinate on OctoMap's lattice (voxel k spans [k, k + 1) * res), its
+/// three indices packed in 21 bits each (offset by 2^20: +-1,000 m at 1 mm voxels).
+using VoxelKey = std::uint64_t;
+constexpr std::int64_t kKeyOffset = std::int64_t{1} << 20;
+
+std::int64_t voxelIndex(double coordinate, double resolution)
+{
+  return static_cast<std::int64_t>(std::floor(coordinate / resolution));
+}
+
+bool packKey(std::int64_t x, std::int64_t y, std::int64_t z, VoxelKey& key)
+{
+  key = 0;
+  for (const std::int64_t i : {x, y, z}) {
+    if (i < -kKeyOffset || i >= kKeyOffset)
+      return false;
+    key = key << 21 | static_cast<VoxelKey>(i + kKeyOffset);
+  }
+  return true;
+}
+
+bool keyOf(const pcl::PointXYZ& p, double resolution, VoxelKey& key)
+{
+  return pcl::isFinite(p) &&
+         packKey(voxelIndex(p.x, resolution), voxelIndex(p.y, resolution),
+                 voxelIndex(p.z, resolution), key);
+}
+
 } // namespace
 
 struct ReconstructionEvaluator::Impl {
   CloudXYZ::Ptr ground_truth;
+  TriangleMesh background;
+  /// Voxels of the levels' boxes near the background and free of ground truth.
+  std::unordered_set<VoxelKey> background_keys;
+  /// Where background_keys were looked for (the levels' bounding box).
+  Box background_region;
+
+  void updateBackgroundKeys(const std::vector<EvaluationLevel>& levels, double resolution);
   /// Per level, the ROIs scored separately (one per box, or the whole ROI) and the
   /// ground truth cropped to each.
   std::vector<std::vector<Roi>> parts;
@@ -39,6 +77,55 @@ struct ReconstructionEvaluator::Impl {
   /// only rebuilds the reconstruction's tree).
   std::vector<std::vector<std::unique_ptr<ReconstructionMetrics>>> metrics;
 };
+
+void ReconstructionEvaluator::Impl::updateBackgroundKeys(
+    const std::vector<EvaluationLevel>& levels, double resolution)
+{
+  background_keys.clear();
+  if (background.empty() || levels.empty() || !ground_truth)
+    return;
+  Roi all;
+  for (const EvaluationLevel& level : levels)
+    for (const Box& box : level.roi.boxes())
+      all.addBox(box);
+  background_region = all.boundingBox();
+  const Eigen::Vector3d lo = background_region.min(), hi = background_region.max();
+  std::unordered_set<VoxelKey> truth;
+  for (const pcl::PointXYZ& p : *ground_truth) {
+    VoxelKey key;
+    if (keyOf(p, resolution, key))
+      truth.insert(key);
+  }
+  // A voxel is background if the triangle meets it or one of its 26 neighbours: the
+  // box of three voxels' side around it.
+  const Eigen::Vector3d near_size = Eigen::Vector3d::Constant(3.0 * resolution);
+  for (const auto& t : background.triangles) {
+    const Eigen::Vector3d a = background.vertices[t[0]].cast<double>();
+    const Eigen::Vector3d b = background.vertices[t[1]].cast<double>();
+    const Eigen::Vector3d c = background.vertices[t[2]].cast<double>();
+    const Eigen::Vector3d t_lo = a.cwiseMin(b).cwiseMin(c).array() - resolution;
+    const Eigen::Vector3d t_hi = a.cwiseMax(b).cwiseMax(c).array() + resolution;
+    const Eigen::Vector3d from = t_lo.cwiseMax(lo), to = t_hi.cwiseMin(hi);
+    if ((from.array() > to.array()).any())
+      continue;
+    std::int64_t first[3], last[3];
+    for (int i = 0; i < 3; ++i) {
+      first[i] = voxelIndex(from[i], resolution);
+      last[i] = voxelIndex(to[i], resolution);
+    }
+    for (std::int64_t x = first[0]; x <= last[0]; ++x)
+      for (std::int64_t y = first[1]; y <= last[1]; ++y)
+        for (std::int64_t z = first[2]; z <= last[2]; ++z) {
+          VoxelKey key;
+          if (!packKey(x, y, z, key) || truth.count(key) || background_keys.count(key))
+            continue;
+          const Eigen::Vector3d centre =
+              (Eigen::Vector3d(double(x), double(y), double(z)).array() + 0.5) * resolution;
+          if (Box(centre, near_size).overlapsTriangle(a, b, c))
+            background_keys.insert(key);
+        }
+  }
+}
 
 ReconstructionEvaluator::ReconstructionEvaluator() : impl_(std::make_unique<Impl>()) {}
 ReconstructionEvaluator::~ReconstructionEvaluator() = default;
@@ -120,6 +207,19 @@ void ReconstructionEvaluator::setLevels(const std::vector<EvaluationLevel>& leve
     }
   }
   levels_ = levels;
+  impl_->updateBackgroundKeys(levels_, resolution_m_);
+}
+
+void ReconstructionEvaluator::setBackground(const TriangleMesh& background)
+{
+  background.validate();
+  impl_->background = background;
+  impl_->updateBackgroundKeys(levels_, resolution_m_);
+}
+
+std::size_t ReconstructionEvaluator::backgroundVoxelCount() const
+{
+  return impl_->background_keys.size();
 }
 
 const CloudXYZ& ReconstructionEvaluator::getGroundTruth() const
@@ -132,8 +232,21 @@ const CloudXYZ& ReconstructionEvaluator::getGroundTruth() const
 void ReconstructionEvaluator::compute(const CloudXYZ& reconstruction,
                                       std::vector<LevelScore>& scores) const
 {
-  // Copy once: the metrics and the crop take shared pointers.
-  const auto cloud = std::make_shared<const CloudXYZ>(reconstruction);
+  // Copy once (the metrics and the crop take shared pointers), less the background.
+  auto kept = std::make_shared<CloudXYZ>();
+  if (impl_->background_keys.empty()) {
+    *kept = reconstruction;
+  } else {
+    kept->reserve(reconstruction.size());
+    for (const pcl::PointXYZ& p : reconstruction) {
+      VoxelKey key;
+      if (impl_->background_region.contains(p.x, p.y, p.z) &&
+          keyOf(p, resolution_m_, key) && impl_->background_keys.count(key))
+        continue;
+      kept->push_back(p);
+    }
+  }
+  const CloudXYZ::ConstPtr cloud = kept;
   scores.assign(levels_.size(), LevelScore{});
   for (std::size_t l = 0; l < levels_.size(); ++l) {
     LevelScore& s = scores[l];

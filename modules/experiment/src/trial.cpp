@@ -12,6 +12,7 @@
 #include <plantnbv/common/stopwatch.h>
 #include <plantnbv/experiment/trial.h>
 #include <plantnbv/planning/view_planner.h>
+#include <plantnbv/sensor/sensor_scene.h>
 #include <plantnbv/sensor/simulated_depth_sensor.h>
 
 namespace plantnbv {
@@ -184,6 +185,11 @@ void Trial::run(TrialResult& result)
   evaluator.setNumberOfThreads(c.threads);
   evaluator.setGroundTruth(*plant_);
   evaluator.setLevels(levels_);
+  // Scored on the plant only: the floor's and the support's voxels are left out.
+  TriangleMesh background;
+  for (const TriangleMesh& part : plantSceneBackground(*plant_, c.scene))
+    background.append(part);
+  evaluator.setBackground(background);
   sector_ = c.sector;
   sector_.axis_base = plant_->base_position;
   auto sampler = std::make_shared<CylindricalSectorSampler>(sector_);

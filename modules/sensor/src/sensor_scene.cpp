@@ -347,12 +347,11 @@ std::size_t SensorScene::addSurfels(const CloudXYZL& cloud_W,
   return addSurfels(points, labels, options);
 }
 
-std::size_t SensorScene::addFloor(double height_m, double half_size_m,
-                                  const Eigen::Vector2d& center_xy)
+TriangleMesh floorMesh(double height_m, double half_size_m, const Eigen::Vector2d& center_xy)
 {
   if (!std::isfinite(height_m) || !center_xy.allFinite())
-    throw InvalidArgumentError("SensorScene::addFloor: height and centre must be finite");
-  requirePositive(half_size_m, "SensorScene::addFloor: half_size_m");
+    throw InvalidArgumentError("floorMesh: height and centre must be finite");
+  requirePositive(half_size_m, "floorMesh: half_size_m");
   TriangleMesh mesh;
   const float h = float(half_size_m), z = float(height_m);
   const float x = float(center_xy.x()), y = float(center_xy.y());
@@ -361,19 +360,20 @@ std::size_t SensorScene::addFloor(double height_m, double half_size_m,
   mesh.triangles = {{0, 1, 2}, {0, 2, 3}};
   mesh.node_names = {"floor"};
   mesh.node_ids = {0, 0};
-  return addMesh(mesh, PartLabel::background);
+  mesh.labels.assign(mesh.triangles.size(), PartLabel::background);
+  return mesh;
 }
 
-std::size_t SensorScene::addSupport(const Eigen::Vector3d& top_center_W,
-                                    double half_width_m, double bottom_height_m)
+TriangleMesh supportMesh(const Eigen::Vector3d& top_center_W, double half_width_m,
+                         double bottom_height_m)
 {
   if (!top_center_W.allFinite() || !std::isfinite(bottom_height_m))
-    throw InvalidArgumentError("SensorScene::addSupport: values must be finite");
-  requirePositive(half_width_m, "SensorScene::addSupport: half_width_m");
+    throw InvalidArgumentError("supportMesh: values must be finite");
+  requirePositive(half_width_m, "supportMesh: half_width_m");
   if (!(top_center_W.z() > bottom_height_m)) {
     std::ostringstream s;
-    s << "SensorScene::addSupport: top z = " << top_center_W.z()
-      << " must be above the bottom z = " << bottom_height_m;
+    s << "supportMesh: top z = " << top_center_W.z() << " must be above the bottom z = "
+      << bottom_height_m;
     throw InvalidArgumentError(s.str());
   }
   TriangleMesh mesh;
@@ -391,7 +391,33 @@ std::size_t SensorScene::addSupport(const Eigen::Vector3d& top_center_W,
                     {2, 6, 3}, {3, 6, 7}, {0, 4, 2}, {2, 4, 6}, {1, 3, 5}, {3, 7, 5}};
   mesh.node_names = {"support"};
   mesh.node_ids.assign(mesh.triangles.size(), 0);
-  return addMesh(mesh, PartLabel::background);
+  mesh.labels.assign(mesh.triangles.size(), PartLabel::background);
+  return mesh;
+}
+
+std::vector<TriangleMesh> plantSceneBackground(const Plant& plant, const SceneConfig& config)
+{
+  config.validate();
+  std::vector<TriangleMesh> parts;
+  const Eigen::Vector3d& base = plant.base_position;
+  if (config.floor)
+    parts.push_back(floorMesh(config.floor_height_m, config.floor_half_size_m, base.head<2>()));
+  if (config.support && base.z() > config.floor_height_m)
+    parts.push_back(supportMesh(base, config.support_half_width_m, config.floor_height_m));
+  return parts;
+}
+
+std::size_t SensorScene::addFloor(double height_m, double half_size_m,
+                                  const Eigen::Vector2d& center_xy)
+{
+  return addMesh(floorMesh(height_m, half_size_m, center_xy), PartLabel::background);
+}
+
+std::size_t SensorScene::addSupport(const Eigen::Vector3d& top_center_W,
+                                    double half_width_m, double bottom_height_m)
+{
+  return addMesh(supportMesh(top_center_W, half_width_m, bottom_height_m),
+                 PartLabel::background);
 }
 
 void SensorScene::commit()
@@ -457,11 +483,8 @@ SensorScene::Ptr makePlantScene(const Plant& plant, const SceneConfig& config,
   else
     throw InvalidArgumentError("makePlantScene: plant '" + plant.name +
                                "' has neither mesh nor scan points");
-  const Eigen::Vector3d& base = plant.base_position;
-  if (config.floor)
-    scene->addFloor(config.floor_height_m, config.floor_half_size_m, base.head<2>());
-  if (config.support && base.z() > config.floor_height_m)
-    scene->addSupport(base, config.support_half_width_m, config.floor_height_m);
+  for (const TriangleMesh& part : plantSceneBackground(plant, config))
+    scene->addMesh(part, PartLabel::background);
   scene->setNumberOfThreads(threads);
   scene->commit();
   return scene;

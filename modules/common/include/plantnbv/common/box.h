@@ -30,6 +30,11 @@ struct Box {
 
   bool contains(const Eigen::Vector3d& p) const;
   bool contains(float x, float y, float z) const;
+  /// \brief True if the triangle abc and the closed box share a point (exact
+  /// separating-axis test: the box's 3 face normals, the triangle's normal and the 9
+  /// cross products of their edges). A triangle touching a face overlaps.
+  bool overlapsTriangle(const Eigen::Vector3d& a, const Eigen::Vector3d& b,
+                        const Eigen::Vector3d& c) const;
 };
 
 /// \brief A region of interest: a union of boxes. An empty ROI contains nothing.

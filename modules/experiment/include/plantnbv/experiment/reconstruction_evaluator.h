@@ -10,6 +10,7 @@
 
 #include <plantnbv/common/box.h>
 #include <plantnbv/common/pcl_fwd.h>
+#include <plantnbv/common/triangle_mesh.h>
 #include <plantnbv/plant/plant.h>
 
 namespace plantnbv {
@@ -44,7 +45,8 @@ struct LevelScore {
 ///   its scan points, reduced to the centres of the voxels they fall in, on OctoMap's
 ///   lattice at the map's resolution (VoxelGridFilter with voxel centres), so that a
 ///   perfectly observed voxel is at distance 0 from its ground truth;
-/// - reconstruction: the occupied voxel centres of the map (same lattice);
+/// - reconstruction: the occupied voxel centres of the map (same lattice), less the
+///   background's voxels (setBackground);
 /// - both cropped to each level's boxes (RoiCrop, closed boxes), then
 ///   ReconstructionMetrics with rho = resolution.
 ///
@@ -80,6 +82,21 @@ public:
   /// if setGroundTruth was not called.
   void setLevels(const std::vector<EvaluationLevel>& levels);
   const std::vector<EvaluationLevel>& getLevels() const { return levels_; }
+
+  /// \brief The scene's surfaces that are not the plant (for a trial, the floor and
+  /// support of plantSceneBackground). The reconstruction's voxels that such a surface
+  /// passes through, or the voxels next to them (which take the sensor's noise), are
+  /// left out of the scores unless they hold ground truth, as a segmentation of the
+  /// plant would leave them out. Without this, a support whose top face lies on the
+  /// bottom face of a level's box scores as false positives wherever the lattice puts
+  /// its voxel centres inside the box. At rho = the resolution a match is the same
+  /// voxel (up to the float rounding of neighbours exactly rho apart), so what is left
+  /// out is almost only false positives. Default: none. May be called before or after
+  /// setLevels.
+  /// \throws FormatError for a malformed mesh.
+  void setBackground(const TriangleMesh& background);
+  /// \brief How many voxels of the levels' boxes setBackground leaves out (0 before).
+  std::size_t backgroundVoxelCount() const;
 
   /// \brief The ground-truth voxel centres (the whole plant, uncropped).
   const CloudXYZ& getGroundTruth() const;

@@ -118,14 +118,10 @@ public:
   /// are skipped. \throws InvalidArgumentError if no finite point remains.
   std::size_t addSurfels(const CloudXYZL& cloud_W, const SurfelOptions& options = {});
 
-  /// \brief Adds a horizontal square floor (2 triangles, label `background`) at
-  /// `height_m`, centred on `center_xy` (metres), `half_size_m` > 0.
+  /// \brief Adds floorMesh(height_m, half_size_m, center_xy).
   std::size_t addFloor(double height_m, double half_size_m,
                        const Eigen::Vector2d& center_xy = Eigen::Vector2d::Zero());
-  /// \brief Adds an axis-aligned box (12 triangles, label `background`) whose top face is
-  /// centred on `top_center_W` and whose bottom is at `bottom_height_m`.
-  /// \throws InvalidArgumentError unless half_width_m > 0 and the top is above the
-  /// bottom.
+  /// \brief Adds supportMesh(top_center_W, half_width_m, bottom_height_m).
   std::size_t addSupport(const Eigen::Vector3d& top_center_W, double half_width_m,
                          double bottom_height_m);
 
@@ -154,6 +150,23 @@ private:
   std::unique_ptr<Impl> impl_;
   unsigned int threads_ = 0;
 };
+
+/// \brief A horizontal square (2 triangles, labelled `background`) at `height_m`,
+/// centred on `center_xy` (metres), `half_size_m` > 0.
+/// \throws InvalidArgumentError for non-finite or non-positive values.
+TriangleMesh floorMesh(double height_m, double half_size_m,
+                       const Eigen::Vector2d& center_xy = Eigen::Vector2d::Zero());
+/// \brief An axis-aligned box (12 triangles, labelled `background`) whose top face is
+/// centred on `top_center_W` and whose bottom is at `bottom_height_m`.
+/// \throws InvalidArgumentError unless the values are finite, half_width_m > 0 and the
+/// top is above the bottom.
+TriangleMesh supportMesh(const Eigen::Vector3d& top_center_W, double half_width_m,
+                         double bottom_height_m);
+/// \brief The background makePlantScene puts around `plant`: the floor and the support
+/// of `config` (either may be left out), in that order.
+/// \throws InvalidArgumentError for an invalid config.
+std::vector<TriangleMesh> plantSceneBackground(const Plant& plant,
+                                               const SceneConfig& config = {});
 
 /// \brief The scene of a plant as the paper's experiments had it: the plant (its mesh,
 /// or its scan points as surfels when it has no mesh) where it is posed, plus the floor
