@@ -56,7 +56,7 @@ void expectBotanyInRanges(const Plant& plant)
   plant.mesh.bounds(lo, hi);
   EXPECT_GE(lo.z(), -1e-6);
   EXPECT_NEAR(hi.z(), a.top_height_m, 1e-6);
-  // Stem: base at the origin, radius 4-7 mm.
+  // Stem: base at the origin, radius 2.5-4.5 mm.
   if (a.stem_axis.size() < 2 || a.leaves.size() < 5 || a.trusses.empty()) {
     ADD_FAILURE() << "stem axis, leaves or trusses missing";
     return;
@@ -64,8 +64,8 @@ void expectBotanyInRanges(const Plant& plant)
   EXPECT_EQ(a.stem_axis.front(), Eigen::Vector3d::Zero());
   EXPECT_NEAR(a.stem_axis.back().z(), a.stem_height_m, 1e-12);
   for (std::size_t k = 0; k + 1 < a.stem_radius_m.size(); ++k) {
-    EXPECT_GE(a.stem_radius_m[k], 0.004);
-    EXPECT_LE(a.stem_radius_m[k], 0.007);
+    EXPECT_GE(a.stem_radius_m[k], 0.0025);
+    EXPECT_LE(a.stem_radius_m[k], 0.0045);
   }
 
   for (std::size_t k = 0; k < a.leaves.size(); ++k) {
@@ -212,8 +212,8 @@ TEST(TomatoPlantGenerator, LeafNodesAreWherePetiolesLeaveTheStem)
       // On the stem surface: one stem radius out from the axis, in the petiole's
       // direction, and the petiole points up and out.
       const double d = horizontalDistance(node.position, node.stem_point);
-      EXPECT_GT(d, 0.0035);
-      EXPECT_LT(d, 0.0076);
+      EXPECT_GT(d, 0.0022);
+      EXPECT_LT(d, 0.0050);
       EXPECT_NEAR(node.petiole_direction.norm(), 1.0, 1e-12);
       EXPECT_GT(node.petiole_direction.z(), 0.0);
       const Eigen::Vector3d out = node.position - node.stem_point;

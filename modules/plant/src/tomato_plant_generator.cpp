@@ -24,7 +24,7 @@ constexpr double kDeg = M_PI / 180.0;
 // Botanical limits (docs/plants.md gives the sources). Every drawn value is clamped to
 // them, so no seed can leave the documented ranges.
 constexpr double kStemHeightMin = 0.45, kStemHeightMax = 0.70;
-constexpr double kStemRadiusMin = 0.004, kStemRadiusMax = 0.007;
+constexpr double kStemRadiusMin = 0.0025, kStemRadiusMax = 0.0045;
 constexpr double kLeafLengthMin = 0.15, kLeafLengthMax = 0.40;
 constexpr double kLeafletLengthMin = 0.03, kLeafletLengthMax = 0.09;
 constexpr double kLeafletWidthMin = 0.02, kLeafletWidthMax = 0.04;
@@ -343,7 +343,7 @@ Plant TomatoPlantGenerator::generate() const
   StemShape stem;
   stem.height = clamp(lerp(0.465, 0.635, stage) + plant_draws.jitter(0.015),
                       kStemHeightMin, kStemHeightMax);
-  stem.r_base = clamp(lerp(0.0052, 0.0066, stage) + plant_draws.jitter(0.0004),
+  stem.r_base = clamp(lerp(0.0030, 0.0040, stage) + plant_draws.jitter(0.0003),
                       kStemRadiusMin, kStemRadiusMax);
   stem.r_top = std::max(kStemRadiusMin, stem.r_base * (0.75 + plant_draws.jitter(0.05)));
   stem.bend_dir = horizontal(2.0 * M_PI * plant_draws.unit());

@@ -14,7 +14,7 @@ namespace plantnbv {
 
 /// \brief Generates a tomato plant from a growth stage and a seed.
 ///
-/// One main stem (radius 4-7 mm, height 0.45-0.70 m to the apex, slightly curved, base at
+/// One main stem (radius 2.5-4.5 mm, height 0.45-0.70 m to the apex, slightly curved, base at
 /// the origin, z up); compound leaves in a spiral phyllotaxis (divergence near 137.5 deg)
 /// at internodes that lengthen with the growth stage and shorten towards the apex; each
 /// leaf a petiole and rachis of 0.15-0.40 m drooping along its length, with 2-4 pairs of
