@@ -38,7 +38,10 @@ if(PLANTNBV_SANITIZE)
   if(PLANTNBV_LLVM_SYMBOLIZER)
     set(symbolizer ":external_symbolizer_path=${PLANTNBV_LLVM_SYMBOLIZER}")
   endif()
-  set(PLANTNBV_ASAN_OPTIONS "detect_leaks=1:strict_string_checks=1:detect_stack_use_after_return=1:check_initialization_order=1:strict_init_order=1${symbolizer}")
+  # Not strict_string_checks: Assimp 5.2.5's OBJ parser gives strtol line buffers that
+  # end in '\n' without a NUL; strtol stops at the '\n' and reads nothing past the
+  # buffer, but the strict check reports every such call (docs/reliability.md).
+  set(PLANTNBV_ASAN_OPTIONS "detect_leaks=1:detect_stack_use_after_return=1:check_initialization_order=1:strict_init_order=1${symbolizer}")
   set(PLANTNBV_LSAN_OPTIONS "suppressions=${supp}/lsan.supp:print_suppressions=0")
   set(PLANTNBV_UBSAN_OPTIONS "print_stacktrace=1:halt_on_error=1:suppressions=${supp}/ubsan.supp${symbolizer}")
   set(script "# Written by cmake/Sanitizers.cmake: the sanitizer options of every test.\n")
