@@ -229,6 +229,22 @@ TEST(CloudIo, PcdFilesThatCrashPclAreFormatErrors)
             std::string::npos);
 }
 
+TEST(CloudIo, PlyVertexListPropertyIsAFormatError)
+{
+  // Lists of different lengths per vertex made PCL 1.13 abort (found by fuzzing).
+  TempDir dir;
+  const std::string path = dir.write("lists.ply", "ply\nformat ascii 1.0\n"
+                                                  "element vertex 2\n"
+                                                  "property float x\nproperty float y\n"
+                                                  "property float z\n"
+                                                  "property list uchar int ids\n"
+                                                  "end_header\n"
+                                                  "0 0 0 1 7\n1 0 0 3 7 8 9\n");
+  CloudXYZ cloud;
+  const std::string msg = thrownMessage<FormatError>([&] { loadCloud(path, cloud); });
+  EXPECT_NE(msg.find("vertex property 'ids' is a list"), std::string::npos) << msg;
+}
+
 TEST(CloudIo, FileWithoutXyzIsAFormatError)
 {
   TempDir dir;

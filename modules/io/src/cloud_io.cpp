@@ -272,8 +272,8 @@ void checkPcd(const std::string& path, const InputLimits& limits)
   }
 }
 
-/// Checks a PLY header: a vertex element within the limits, and a body long enough for
-/// its counts.
+/// Checks a PLY header: a vertex element of scalar properties within the limits, and a
+/// body long enough for its counts.
 void checkPly(const std::string& path, const InputLimits& limits)
 {
   std::ifstream in(path, std::ios::binary);
@@ -282,6 +282,12 @@ void checkPly(const std::string& path, const InputLimits& limits)
   if (!vertex)
     throw FormatError(detail::where(path) + "no vertex element");
   detail::checkLimit(path, vertex->count, "points", limits.max_points, "max_points");
+  // PCL 1.13 sizes a vertex list by the first vertex's and abort()s on a longer one
+  // (found by fuzzing).
+  for (const detail::PlyProperty& p : vertex->properties)
+    if (p.is_list)
+      throw FormatError(detail::where(path) + "vertex property '" + p.name +
+                        "' is a list; a point cloud's vertex properties must be scalars");
   detail::checkPlyBodySize(path, in, header);
 }
 
