@@ -245,6 +245,36 @@ TEST(CloudIo, PlyVertexListPropertyIsAFormatError)
   EXPECT_NE(msg.find("vertex property 'ids' is a list"), std::string::npos) << msg;
 }
 
+TEST(CloudIo, PlyColoursOnlyInTheOrderPclReads)
+{
+  // PCL 1.13 abort()ed on green without red (found by fuzzing).
+  TempDir dir;
+  auto ply = [&](const std::string& colour_properties, const std::string& row) {
+    return dir.write("c.ply", "ply\nformat ascii 1.0\nelement vertex 1\n"
+                              "property float x\nproperty float y\nproperty float z\n" +
+                                  colour_properties + "end_header\n0 0 0 " + row + "\n");
+  };
+  const std::string rgb = "property uchar red\nproperty uchar green\nproperty uchar blue\n";
+  CloudXYZ cloud;
+  EXPECT_NO_THROW(loadCloud(ply(rgb, "1 2 3"), cloud));
+  EXPECT_NO_THROW(loadCloud(ply(rgb + "property uchar alpha\n", "1 2 3 4"), cloud));
+  EXPECT_NO_THROW(loadCloud(ply("property float green\n", "1"), cloud)); // a plain scalar
+  for (const auto& [properties, row] : std::vector<std::pair<std::string, std::string>>{
+           {"property uchar green\nproperty uchar blue\n", "1 2"},
+           {"property uchar red\nproperty uchar green\n", "1 2"},
+           {"property uchar red\nproperty float i\nproperty uchar green\n"
+            "property uchar blue\n",
+            "1 2 3 4"},
+           {"property uchar alpha\n" + rgb, "1 2 3 4"},
+           {rgb + rgb, "1 2 3 4 5 6"}}) {
+    const std::string msg =
+        thrownMessage<FormatError>([&] { loadCloud(ply(properties, row), cloud); });
+    EXPECT_NE(msg.find("vertex colour properties must be uchar red, green, blue"),
+              std::string::npos)
+        << properties << ": " << msg;
+  }
+}
+
 TEST(CloudIo, FileWithoutXyzIsAFormatError)
 {
   TempDir dir;

@@ -272,6 +272,47 @@ void checkPcd(const std::string& path, const InputLimits& limits)
   }
 }
 
+/// PCL 1.13 packs uchar red, green and blue (or diffuse_red, ...) into one rgb field as
+/// it reads them, and abort()s (an assert) on any other arrangement, e.g. green without
+/// red (found by fuzzing). Accepts what it reads: no colour, or one red-green-blue run,
+/// optionally followed at once by alpha.
+void checkPlyColours(const std::string& path, const detail::PlyElement& vertex)
+{
+  auto role = [](const detail::PlyProperty& p) {
+    if (p.type != detail::PlyType::uint8)
+      return -1;
+    for (const char* prefix : {"", "diffuse_"}) {
+      const std::string base(prefix);
+      if (p.name == base + "red")
+        return 0;
+      if (p.name == base + "green")
+        return 1;
+      if (p.name == base + "blue")
+        return 2;
+    }
+    return p.name == "alpha" ? 3 : -1;
+  };
+  int previous = -1; // the role of the previous property
+  bool have_rgb = false;
+  for (const detail::PlyProperty& p : vertex.properties) {
+    const int r = role(p);
+    const bool ok = r == -1   ? previous != 0 && previous != 1
+                    : r == 0  ? !have_rgb
+                    : r == 3  ? previous == 2
+                              : previous == r - 1;
+    if (!ok)
+      throw FormatError(detail::where(path) + "vertex colour properties must be uchar "
+                        "red, green, blue in that order, alpha only right after blue (at '" +
+                        p.name + "')");
+    have_rgb = have_rgb || r == 0;
+    previous = r;
+  }
+  if (previous == 0 || previous == 1)
+    throw FormatError(detail::where(path) + "vertex colour properties must be uchar red, "
+                      "green, blue in that order (no blue after '" +
+                      vertex.properties.back().name + "')");
+}
+
 /// Checks a PLY header: a vertex element of scalar properties within the limits, and a
 /// body long enough for its counts.
 void checkPly(const std::string& path, const InputLimits& limits)
@@ -288,6 +329,7 @@ void checkPly(const std::string& path, const InputLimits& limits)
     if (p.is_list)
       throw FormatError(detail::where(path) + "vertex property '" + p.name +
                         "' is a list; a point cloud's vertex properties must be scalars");
+  checkPlyColours(path, *vertex);
   detail::checkPlyBodySize(path, in, header);
 }
 
