@@ -259,7 +259,8 @@ TEST(CloudIo, PlyColoursOnlyInTheOrderPclReads)
   EXPECT_NO_THROW(loadCloud(ply(rgb, "1 2 3"), cloud));
   EXPECT_NO_THROW(loadCloud(ply(rgb + "property uchar alpha\n", "1 2 3 4"), cloud));
   EXPECT_NO_THROW(loadCloud(ply("property float green\n", "1"), cloud)); // a plain scalar
-  for (const auto& [properties, row] : std::vector<std::pair<std::string, std::string>>{
+  // (properties, row) pairs; not a structured binding: C++17 lambdas cannot capture one.
+  for (const auto& bad : std::vector<std::pair<std::string, std::string>>{
            {"property uchar green\nproperty uchar blue\n", "1 2"},
            {"property uchar red\nproperty uchar green\n", "1 2"},
            {"property uchar red\nproperty float i\nproperty uchar green\n"
@@ -268,10 +269,10 @@ TEST(CloudIo, PlyColoursOnlyInTheOrderPclReads)
            {"property uchar alpha\n" + rgb, "1 2 3 4"},
            {rgb + rgb, "1 2 3 4 5 6"}}) {
     const std::string msg =
-        thrownMessage<FormatError>([&] { loadCloud(ply(properties, row), cloud); });
+        thrownMessage<FormatError>([&] { loadCloud(ply(bad.first, bad.second), cloud); });
     EXPECT_NE(msg.find("vertex colour properties must be uchar red, green, blue"),
               std::string::npos)
-        << properties << ": " << msg;
+        << bad.first << ": " << msg;
   }
 }
 
