@@ -14,6 +14,7 @@
 #include <plantnbv/filters/roi_crop.h>
 #include <plantnbv/filters/voxel_grid_filter.h>
 #include <plantnbv/metrics/reconstruction_metrics.h>
+#include <plantnbv/octree/ray_traversal.h>
 #include <plantnbv/sampling/mesh_sampler.h>
 
 namespace plantnbv {
@@ -30,32 +31,23 @@ CloudXYZ::Ptr crop(const CloudXYZ::ConstPtr& cloud, const Roi& roi)
   return out;
 }
 
-/// The voxel of a coordinate on OctoMap's lattice (voxel k spans [k, k + 1) * res), its
-/// three indices packed in 21 bits each (offset by 2^20: +-1,000 m at 1 mm voxels).
+/// A voxel of OctoMap's lattice: its three 16-bit keys (ray_traversal.h, the map's own
+/// key arithmetic) packed into one integer.
 using VoxelKey = std::uint64_t;
-constexpr std::int64_t kKeyOffset = std::int64_t{1} << 20;
 
-std::int64_t voxelIndex(double coordinate, double resolution)
+VoxelKey packKey(const int key[3])
 {
-  return static_cast<std::int64_t>(std::floor(coordinate / resolution));
-}
-
-bool packKey(std::int64_t x, std::int64_t y, std::int64_t z, VoxelKey& key)
-{
-  key = 0;
-  for (const std::int64_t i : {x, y, z}) {
-    if (i < -kKeyOffset || i >= kKeyOffset)
-      return false;
-    key = key << 21 | static_cast<VoxelKey>(i + kKeyOffset);
-  }
-  return true;
+  return VoxelKey(key[0]) << 32 | VoxelKey(key[1]) << 16 | VoxelKey(key[2]);
 }
 
 bool keyOf(const pcl::PointXYZ& p, double resolution, VoxelKey& key)
 {
-  return pcl::isFinite(p) &&
-         packKey(voxelIndex(p.x, resolution), voxelIndex(p.y, resolution),
-                 voxelIndex(p.z, resolution), key);
+  const float xyz[3] = {p.x, p.y, p.z};
+  int k[3];
+  if (!ray_traversal::coordToKeyChecked(1.0 / resolution, xyz, k))
+    return false;
+  key = packKey(k);
+  return true;
 }
 
 } // namespace
@@ -108,19 +100,23 @@ void ReconstructionEvaluator::Impl::updateBackgroundKeys(
     const Eigen::Vector3d from = t_lo.cwiseMax(lo), to = t_hi.cwiseMin(hi);
     if ((from.array() > to.array()).any())
       continue;
-    std::int64_t first[3], last[3];
-    for (int i = 0; i < 3; ++i) {
-      first[i] = voxelIndex(from[i], resolution);
-      last[i] = voxelIndex(to[i], resolution);
-    }
-    for (std::int64_t x = first[0]; x <= last[0]; ++x)
-      for (std::int64_t y = first[1]; y <= last[1]; ++y)
-        for (std::int64_t z = first[2]; z <= last[2]; ++z) {
-          VoxelKey key;
-          if (!packKey(x, y, z, key) || truth.count(key) || background_keys.count(key))
+    int first[3], last[3];
+    bool inside = true; // no map voxel lies outside the octree
+    for (int i = 0; i < 3; ++i)
+      inside = inside && ray_traversal::coordToKeyChecked(1.0 / resolution, from[i], first[i]) &&
+               ray_traversal::coordToKeyChecked(1.0 / resolution, to[i], last[i]);
+    if (!inside)
+      continue;
+    int k[3];
+    for (k[0] = first[0]; k[0] <= last[0]; ++k[0])
+      for (k[1] = first[1]; k[1] <= last[1]; ++k[1])
+        for (k[2] = first[2]; k[2] <= last[2]; ++k[2]) {
+          const VoxelKey key = packKey(k);
+          if (truth.count(key) || background_keys.count(key))
             continue;
-          const Eigen::Vector3d centre =
-              (Eigen::Vector3d(double(x), double(y), double(z)).array() + 0.5) * resolution;
+          const Eigen::Vector3d centre(ray_traversal::keyToCoord(resolution, k[0]),
+                                       ray_traversal::keyToCoord(resolution, k[1]),
+                                       ray_traversal::keyToCoord(resolution, k[2]));
           if (Box(centre, near_size).overlapsTriangle(a, b, c))
             background_keys.insert(key);
         }
