@@ -52,6 +52,7 @@
 #include <pcl/point_cloud.h>
 #include <pcl/point_types.h>
 
+#include <plantnbv/experiment/plant_scene.h>
 #include <plantnbv/octree/occupancy_map.h>
 #include <plantnbv/planning/cylindrical_sector_sampler.h>
 #include <plantnbv/planning/information_gain.h>
@@ -111,13 +112,13 @@ const std::vector<Viewpoint>& candidates()
   return views;
 }
 
-Roi benchRoi(PlantRoiKind kind)
+Roi benchRoi(RoiKind kind)
 {
   return plantRoi(benchPlant(), kind);
 }
 
 /// The reference gains (27 candidates), cached per map and ROI.
-const std::vector<ViewGain>& referenceGains(int views, PlantRoiKind kind,
+const std::vector<ViewGain>& referenceGains(int views, RoiKind kind,
                                             const GainConfig& config = GainConfig())
 {
   static std::map<std::tuple<int, int, int, int>, std::vector<ViewGain>> cache;
@@ -150,7 +151,7 @@ GainConfig gridConfig(int rays_x)
   return config;
 }
 
-void benchOurs(benchmark::State& state, int views, PlantRoiKind kind, int threads, int rays_x)
+void benchOurs(benchmark::State& state, int views, RoiKind kind, int threads, int rays_x)
 {
   const auto map = benchMap(views);
   InformationGain gain;
@@ -188,7 +189,7 @@ void benchOurs(benchmark::State& state, int views, PlantRoiKind kind, int thread
   state.counters["rays_cast"] = static_cast<double>(gain.getLastStats().rays_cast);
 }
 
-void benchReference(benchmark::State& state, int views, PlantRoiKind kind, int threads,
+void benchReference(benchmark::State& state, int views, RoiKind kind, int threads,
                     int rays_x)
 {
   const auto map = benchMap(views);
@@ -218,7 +219,7 @@ constexpr int kStudySeeds = 20;
 constexpr int kFinestX = 256;
 
 /// Gains of candidate set `seed` at rays_x x (3/4 rays_x), cached.
-const std::vector<ViewGain>& studyGains(int views, PlantRoiKind kind, int seed, int rays_x)
+const std::vector<ViewGain>& studyGains(int views, RoiKind kind, int seed, int rays_x)
 {
   static std::map<std::tuple<int, int, int, int>, std::vector<ViewGain>> cache;
   auto& out = cache[{views, static_cast<int>(kind), seed, rays_x}];
@@ -271,7 +272,7 @@ double rankCorrelation(const std::vector<ViewGain>& a, const std::vector<ViewGai
 
 /// The ray-count study: over the maps after 1, 3 and 6 views and kStudySeeds candidate
 /// sets each, the choice with one ray grid against the finest grid's.
-void benchRayCount(benchmark::State& state, PlantRoiKind kind, int rays_x)
+void benchRayCount(benchmark::State& state, RoiKind kind, int rays_x)
 {
   GainConfig config;
   config.rays_x = rays_x;
@@ -310,9 +311,9 @@ void benchRayCount(benchmark::State& state, PlantRoiKind kind, int rays_x)
   state.counters["step_ms"] = step_ms / static_cast<double>(state.iterations());
 }
 
-const char* roiName(PlantRoiKind kind)
+const char* roiName(RoiKind kind)
 {
-  return plantRoiKindName(kind);
+  return roiKindName(kind);
 }
 
 } // namespace
@@ -322,14 +323,14 @@ int main(int argc, char** argv)
   benchmark::Initialize(&argc, argv);
   if (benchmark::ReportUnrecognizedArguments(argc, argv))
     return 1;
-  const PlantRoiKind kinds[] = {PlantRoiKind::whole_plant, PlantRoiKind::main_stem,
-                                PlantRoiKind::leaf_nodes};
+  const RoiKind kinds[] = {RoiKind::whole_plant, RoiKind::main_stem,
+                                RoiKind::leaf_nodes};
   // The default grid (48 x 36) throughout; 64 x 48 (the grid of the figures in
   // shared/notes/performance-findings.md) for ours, and for the reference on one case.
   const int default_x = GainConfig().rays_x;
   for (const int rays_x : {default_x, 64})
     for (const int views : {1, 3, 6})
-      for (const PlantRoiKind kind : kinds)
+      for (const RoiKind kind : kinds)
         for (const int threads : {1, 2}) {
           const std::string suffix = std::string("/") + roiName(kind) + "/views:" +
                                      std::to_string(views) + "/rays:" +
@@ -341,13 +342,13 @@ int main(int argc, char** argv)
               ->Unit(benchmark::kMillisecond)
               ->MinTime(0.5);
           if (rays_x == default_x ||
-              (views == 3 && kind == PlantRoiKind::whole_plant && threads == 2))
+              (views == 3 && kind == RoiKind::whole_plant && threads == 2))
             benchmark::RegisterBenchmark(("gain/reference" + suffix).c_str(), benchReference,
                                          views, kind, threads, rays_x)
                 ->Unit(benchmark::kMillisecond)
                 ->Iterations(1);
         }
-  for (const PlantRoiKind kind : kinds)
+  for (const RoiKind kind : kinds)
     for (const int rays_x : {16, 24, 32, 48, 64, 96, 128, 160}) {
       const std::string name = std::string("ray_count/") + roiName(kind) + "/rays:" +
                                std::to_string(rays_x) + "x" + std::to_string(rays_x * 3 / 4);

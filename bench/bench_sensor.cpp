@@ -23,6 +23,7 @@
 #include <pcl/point_cloud.h>
 #include <pcl/point_types.h>
 
+#include <plantnbv/experiment/plant_scene.h>
 #include <plantnbv/plant/tomato_plant_generator.h>
 #include <plantnbv/sensor/simulated_depth_sensor.h>
 
@@ -64,7 +65,7 @@ SensorScene::Ptr benchScene(bool background)
   static SensorScene::Ptr scenes[2];
   SensorScene::Ptr& scene = scenes[background ? 1 : 0];
   if (!scene) {
-    SceneConfig config;
+    PlantSceneConfig config;
     config.floor = config.support = background;
     scene = makePlantScene(benchPlant(), config);
   }
@@ -128,7 +129,7 @@ vtkSmartPointer<vtkPolyData> vtkScene(bool background)
 {
   TriangleMesh mesh = benchPlant().mesh;
   if (background) {
-    // The floor and support makePlantScene adds with the default SceneConfig (a 10 m
+    // The floor and support makePlantScene adds with the default PlantSceneConfig (a 10 m
     // square at z = 0 and a 0.3 m box up to the base, both centred under the base).
     const float h = 5.0f;
     TriangleMesh floor;

@@ -24,7 +24,6 @@
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
-#include <yaml-cpp/yaml.h>
 
 #include <plantnbv/common/error.h>
 #include <plantnbv/experiment/campaign.h>
@@ -32,14 +31,11 @@
 #include <plantnbv/experiment/campaign_runner.h>
 #include <plantnbv/experiment/result_store.h>
 #include <plantnbv/experiment/trial.h>
+#include <plantnbv/scenario/campaign_figures.h>
+#include <plantnbv/scenario/campaign_file.h>
 
-#include "campaign_figures.h"
-#include "campaign_file.h"
 #include "campaign_submit.h"
 #include "commands.h"
-#include "plant_source.h"
-#include "trial_config.h"
-#include "trial_setup.h"
 
 namespace plantnbv {
 namespace app {
@@ -105,7 +101,7 @@ struct RunOptions {
 
 void runCampaign(const RunOptions& o)
 {
-  CampaignFile f = loadCampaignFile(o.file, o.file);
+  scenario::CampaignFile f = scenario::loadCampaignFile(o.file);
   if (!o.base_dir.empty())
     f.base_dir = o.base_dir;
   const ResultStore store(o.output_dir);
@@ -122,7 +118,7 @@ void runCampaign(const RunOptions& o)
   }
 
   LocalRunner runner(
-      store, [&f](const TrialSpec& t, TrialResult& r) { runCampaignTrial(f, t, r); },
+      store, [&f](const TrialSpec& t, TrialResult& r) { scenario::runCampaignTrial(f, t, r); },
       o.workers);
   const bool tty = ::isatty(STDOUT_FILENO) != 0;
   bool stop_announced = false;
@@ -197,7 +193,7 @@ void statusCampaign(const std::string& dir)
   const std::string file = store.definitionPath().string();
   if (!fs::exists(file))
     throw IoError("'" + dir + "' is not a campaign directory (no campaign.yaml)");
-  const CampaignFile f = loadCampaignFile(file, file);
+  const scenario::CampaignFile f = scenario::loadCampaignFile(file);
   const std::vector<TrialSpec> specs = expandCampaign(f.definition);
   const StoreStatus s = store.status(specs);
   std::cout << "campaign '" << f.definition.name << "': " << s.total << " trials, "
@@ -219,11 +215,13 @@ void reportCampaign(const std::string& dir, std::string out, bool figures)
   const std::vector<StoredTrial> trials = store.load();
   if (trials.empty())
     throw InvalidArgumentError("'" + dir + "' holds no trial results yet");
+  if (figures)
+    requireDisplayOrReexec();
   std::string title = "Campaign " + fs::path(dir).filename().string();
   std::string missing;
   if (fs::exists(store.definitionPath())) {
-    const CampaignFile f = loadCampaignFile(store.definitionPath().string(),
-                                            store.definitionPath().string());
+    const scenario::CampaignFile f =
+        scenario::loadCampaignFile(store.definitionPath().string());
     title = "Campaign '" + f.definition.name + "'";
     const StoreStatus s = store.status(expandCampaign(f.definition));
     if (s.missing)
@@ -239,7 +237,7 @@ void reportCampaign(const std::string& dir, std::string out, bool figures)
             << missing << "; wrote " << (fs::path(out) / "curves.csv").string()
             << " and summary.md";
   if (figures) {
-    const std::vector<fs::path> pngs = writeCampaignFigures(campaignCurves(trials), out);
+    const std::vector<fs::path> pngs = scenario::writeCampaignFigures(campaignCurves(trials), out);
     for (const fs::path& png : pngs)
       std::cout << ", " << png.filename().string();
   }

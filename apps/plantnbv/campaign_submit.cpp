@@ -26,8 +26,8 @@
 #include <plantnbv/experiment/campaign.h>
 #include <plantnbv/experiment/result_store.h>
 #include <plantnbv/experiment/slurm_array.h>
+#include <plantnbv/scenario/campaign_file.h>
 
-#include "campaign_file.h"
 
 namespace plantnbv {
 namespace app {
@@ -211,7 +211,7 @@ void submitCampaign(const SubmitOptions& o)
     throw InvalidArgumentError("--time-limit '" + o.time_limit +
                                "': expected [D-]HH:MM:SS, e.g. 02:00:00");
 
-  const CampaignFile f = loadCampaignFile(o.file, o.file);
+  const scenario::CampaignFile f = scenario::loadCampaignFile(o.file);
   const fs::path dir = absolutePath(o.output_dir);
   const ResultStore store(dir);
   store.create(f.text);

@@ -13,6 +13,8 @@
 #include <pcl/point_types.h>
 
 #include <plantnbv/common/error.h>
+#include <plantnbv/common/stopwatch.h>
+#include <plantnbv/experiment/plant_scene.h>
 #include <plantnbv/io/cloud_io.h>
 #include <plantnbv/io/depth_image_io.h>
 #include <plantnbv/io/file_kind.h>
@@ -20,7 +22,7 @@
 #include <plantnbv/sensor/simulated_depth_sensor.h>
 
 #include "commands.h"
-#include "plant_source.h"
+#include "plant_options.h"
 
 namespace plantnbv {
 namespace app {
@@ -28,7 +30,7 @@ namespace app {
 namespace {
 
 struct CaptureOptions {
-  PlantSourceOptions source;
+  PlantOptions plant;
   /// The paper's v0 (Table 1): x, y, z, qx, qy, qz, qw.
   std::vector<double> pose{0.646, 0.353, 1.383, 0.0, 0.0, -0.383, 0.924};
   std::string intrinsics = "l515-640";
@@ -72,9 +74,9 @@ void runCapture(const CaptureOptions& o)
     noise.seed = o.noise_seed;
     sensor.setNoise(noise);
   }
-  const PlacedPlant placed = makePlacedPlant(o.source);
+  const scenario::PlacedPlant placed = placePlant(o.plant);
   Stopwatch scene_clock;
-  SceneConfig scene_config;
+  PlantSceneConfig scene_config;
   scene_config.floor = scene_config.support = !o.no_background;
   sensor.setScene(makePlantScene(placed.plant, scene_config));
   const double scene_ms = scene_clock.ms();
@@ -128,7 +130,7 @@ void addCaptureCommand(CLI::App& app)
   CLI::App* cmd = app.add_subcommand(
       "capture", "Render one depth view of a plant (organized labelled cloud in the world "
                  "frame); optionally its depth image and an occupancy map of it");
-  addPlantSourceOptions(*cmd, o->source, "--plant");
+  addPlantOptions(*cmd, o->plant, "--plant");
   cmd->add_option("--pose", o->pose,
                   "Camera body pose x,y,z,qx,qy,qz,qw (x forward, z up; default: the "
                   "paper's v0)")

@@ -2,8 +2,6 @@
 // The subcommands of the plantnbv tool: each adds itself to the app and runs from its
 // callback. Apps are thin: parse, call the modules, print.
 
-#include <plantnbv/common/stopwatch.h>
-
 namespace CLI {
 class App;
 }
@@ -17,6 +15,13 @@ void addPlantCommand(CLI::App& app);
 void addCaptureCommand(CLI::App& app);
 void addReconstructCommand(CLI::App& app);
 void addCampaignCommand(CLI::App& app);
+
+/// The command line, kept by main() for requireDisplayOrReexec().
+void setCommandLine(int argc, char** argv);
+/// For a command about to render (a snapshot, figures), before it prints or starts
+/// threads: without an X display, runs the whole command again under xvfb-run (when
+/// installed), else throws the renderer's one-line Error.
+void requireDisplayOrReexec();
 
 } // namespace app
 } // namespace plantnbv

@@ -11,12 +11,13 @@
 #include <pcl/point_types.h>
 
 #include <plantnbv/common/error.h>
+#include <plantnbv/common/stopwatch.h>
 #include <plantnbv/filters/roi_crop.h>
 #include <plantnbv/io/roi_io.h>
 #include <plantnbv/metrics/reconstruction_metrics.h>
 
 #include "commands.h"
-#include "geometry_input.h"
+#include <plantnbv/scenario/geometry_input.h>
 
 namespace plantnbv {
 namespace app {
@@ -66,15 +67,15 @@ void runEval(const EvalOptions& o)
 
   // Without --json, tell what is happening; with it, stdout holds only the JSON object.
   std::ostream& log = o.json ? std::cerr : std::cout;
-  GeometryInputOptions input{o.resolution, o.mesh_points, o.seed};
+  scenario::GeometryInputOptions input{o.resolution, o.mesh_points, o.seed};
   auto reference = std::make_shared<CloudXYZ>();
   auto reconstruction = std::make_shared<CloudXYZ>();
   std::string summary;
   Stopwatch load_clock;
-  loadGeometryAsCloud(o.reference, "reference", input, *reference, summary);
+  scenario::loadGeometryAsCloud(o.reference, "reference", input, *reference, summary);
   if (!o.json)
     log << "reference      " << o.reference << ": " << summary << "\n";
-  loadGeometryAsCloud(o.reconstruction, "reconstruction", input, *reconstruction,
+  scenario::loadGeometryAsCloud(o.reconstruction, "reconstruction", input, *reconstruction,
                       summary);
   if (!o.json)
     log << "reconstruction " << o.reconstruction << ": " << summary << "\n";

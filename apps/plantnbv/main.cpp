@@ -11,26 +11,30 @@
 
 #include "commands.h"
 
-namespace {
+namespace plantnbv {
+namespace app {
 
-/// Whether the command renders (a --snapshot option, or the figures of `campaign
-/// report`): rendering needs an X display.
-bool rendersPictures(int argc, char** argv)
+namespace {
+int g_argc = 0;
+char** g_argv = nullptr;
+} // namespace
+
+void setCommandLine(int argc, char** argv)
 {
-  bool campaign = false, report = false;
-  for (int i = 1; i < argc; ++i) {
-    const std::string arg = argv[i];
-    if (arg.rfind("--snapshot", 0) == 0)
-      return true;
-    if (arg == "--no-figures" || arg == "--help" || arg == "-h")
-      return false;
-    campaign = campaign || (i == 1 && arg == "campaign");
-    report = report || (i == 2 && arg == "report");
-  }
-  return campaign && report;
+  g_argc = argc;
+  g_argv = argv;
 }
 
-} // namespace
+void requireDisplayOrReexec()
+{
+  // Without a display: run again under xvfb-run (this process ends there); where that
+  // cannot be done, the one-line error of requireDisplay().
+  if (!viz::reexecUnderXvfbIfNeeded(g_argc, g_argv))
+    viz::requireDisplay();
+}
+
+} // namespace app
+} // namespace plantnbv
 
 int main(int argc, char** argv)
 {
@@ -38,7 +42,7 @@ int main(int argc, char** argv)
       "plantnbv: attention-driven next-best-view planning for plant reconstruction",
       "plantnbv"};
   app.require_subcommand(1);
-  app.set_version_flag("--version", "plantnbv 0.1.0");
+  app.set_version_flag("--version", "plantnbv " PLANTNBV_VERSION);
   plantnbv::app::addSampleCommand(app);
   plantnbv::app::addEvalCommand(app);
   plantnbv::app::addPlantCommand(app);
@@ -46,11 +50,7 @@ int main(int argc, char** argv)
   plantnbv::app::addReconstructCommand(app);
   plantnbv::app::addCampaignCommand(app);
 
-  // Rendering needs X: without a display, run again under xvfb-run (when installed;
-  // otherwise the renderer reports the missing display as a one-line error).
-  if (rendersPictures(argc, argv))
-    plantnbv::viz::reexecUnderXvfbIfNeeded(argc, argv);
-
+  plantnbv::app::setCommandLine(argc, argv); // for requireDisplayOrReexec()
   // CLI11 reports an unknown command as "a subcommand is required": name it instead.
   if (argc > 1 && argv[1][0] != '-') {
     const auto known = app.get_subcommands([](CLI::App*) { return true; });

@@ -11,6 +11,7 @@
 #include <pcl/point_types.h>
 
 #include <plantnbv/common/error.h>
+#include <plantnbv/common/stopwatch.h>
 #include <plantnbv/io/cloud_io.h>
 #include <plantnbv/io/mesh_io.h>
 #include <plantnbv/io/roi_io.h>
@@ -19,15 +20,19 @@
 #include <plantnbv/viz/snapshot.h>
 
 #include "commands.h"
-#include "plant_source.h"
+#include <plantnbv/scenario/trial_setup.h>
+
+#include "plant_options.h"
 
 namespace plantnbv {
 namespace app {
 
 namespace {
 
+using scenario::PlacedPlant;
+
 struct PlantCommandOptions {
-  PlantSourceOptions source;
+  PlantOptions plant;
   std::string output_dir;
   std::string snapshot;
 };
@@ -103,15 +108,18 @@ void renderSnapshot(const PlacedPlant& placed, const std::string& png_path)
   viz::SceneSnapshot snapshot(config);
   snapshot.addMesh(placed.plant.mesh);
   snapshot.addPoints(placed.plant.scan_points, placed.plant.scan_labels);
-  for (std::size_t i = 0; i < placed.rois.size(); ++i)
-    snapshot.addRoi(placed.rois[i].second, viz::distinctColor(static_cast<int>(i)));
+  const std::vector<EvaluationLevel> levels = scenario::evaluationLevels(placed);
+  for (std::size_t i = 0; i < levels.size(); ++i)
+    snapshot.addRoi(levels[i].roi, viz::distinctColor(static_cast<int>(i)));
   snapshot.render(png_path);
 }
 
 void runPlant(const PlantCommandOptions& o)
 {
+  if (!o.snapshot.empty())
+    requireDisplayOrReexec();
   Stopwatch clock;
-  const PlacedPlant placed = makePlacedPlant(o.source);
+  const PlacedPlant placed = placePlant(o.plant);
   const double make_ms = clock.ms();
   const std::filesystem::path dir(o.output_dir);
   std::error_code ec;
@@ -130,16 +138,17 @@ void runPlant(const PlantCommandOptions& o)
   writeText(dir / "anatomy.json", anatomyToJson(placed.plant));
   // All ROIs in one file (boxes named by level), and one file per level for --roi.
   Roi all;
-  for (const auto& [level, roi] : placed.rois) {
-    io::saveRoi((dir / ("roi_" + level + ".yaml")).string(), roi);
-    for (const Box& b : roi.boxes())
+  const std::vector<EvaluationLevel> levels = scenario::evaluationLevels(placed);
+  for (const EvaluationLevel& level : levels) {
+    io::saveRoi((dir / ("roi_" + level.name + ".yaml")).string(), level.roi);
+    for (const Box& b : level.roi.boxes())
       all.addBox(b);
   }
   io::saveRoi((dir / "rois.yaml").string(), all);
 
   std::cout << summary(placed) << "\n";
   std::cout << "wrote " << (dir / geometry_file).string()
-            << ", anatomy.json, rois.yaml and " << placed.rois.size()
+            << ", anatomy.json, rois.yaml and " << levels.size()
             << " roi_<level>.yaml (" << all.size() << " boxes); generated in "
             << std::setprecision(0) << std::fixed << make_ms << " ms\n";
   if (!o.snapshot.empty()) {
@@ -157,7 +166,7 @@ void addPlantCommand(CLI::App& app)
   auto o = std::make_shared<PlantCommandOptions>();
   CLI::App* cmd = app.add_subcommand(
       "plant", "Generate or load a plant, place it, write mesh, anatomy and ROIs");
-  addPlantSourceOptions(*cmd, o->source);
+  addPlantOptions(*cmd, o->plant);
   cmd->add_option("-o,--output", o->output_dir, "Output directory")->required();
   cmd->add_option("--snapshot", o->snapshot,
                   "Also render a PNG: parts coloured, ROIs as wireframes (needs X; "

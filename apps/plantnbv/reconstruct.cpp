@@ -24,22 +24,25 @@
 #include <plantnbv/viz/palette.h>
 #include <plantnbv/viz/snapshot.h>
 
+#include <plantnbv/scenario/trial_config_file.h>
+#include <plantnbv/scenario/trial_setup.h>
+
 #include "commands.h"
-#include "plant_source.h"
-#include "trial_config.h"
-#include "trial_setup.h"
+#include "plant_options.h"
 
 namespace plantnbv {
 namespace app {
 
 namespace {
 
+using scenario::PlacedPlant;
+
 struct ReconstructOptions {
-  PlantSourceOptions source;
+  PlantOptions plant;
   std::string config_file;
   std::optional<std::string> planner;
   std::optional<int> pattern;
-  std::string attention = "whole-plant";
+  std::string attention = "whole_plant";
   std::optional<int> views;
   std::optional<int> candidates;
   std::optional<double> resolution;
@@ -54,36 +57,22 @@ TrialConfig trialConfig(const ReconstructOptions& o, const PlacedPlant& placed)
 {
   TrialConfig c;
   if (!o.config_file.empty())
-    loadTrialConfig(o.config_file, c);
+    scenario::loadTrialConfig(o.config_file, c);
   if (o.planner)
     c.planner = plannerKindFromName(*o.planner);
   if (o.pattern)
     c.pattern = *o.pattern;
   if (o.views)
     c.views = *o.views;
-  if (o.candidates) {
-    const int cells = c.grid_rows * c.grid_cols;
-    if (*o.candidates < cells || *o.candidates % cells != 0)
-      throw InvalidArgumentError("--candidates " + std::to_string(*o.candidates) +
-                                 ": expected a multiple of the " + std::to_string(cells) +
-                                 " grid cells (9, 27, 45, ...)");
-    c.samples_per_cell = *o.candidates / cells;
-  }
+  if (o.candidates)
+    scenario::setCandidateCount(*o.candidates, "--candidates", c);
   if (o.resolution)
     c.map.resolution_m = *o.resolution;
   if (o.seed)
     c.seed = *o.seed;
   if (o.threads)
     c.threads = *o.threads;
-  // A loaded model may be taller than the paper's plants: the sector follows its height
-  // unless set (paper: 0.7 m for plants of at most 0.7 m).
-  if (o.sector_height)
-    c.sector.height_m = *o.sector_height;
-  else if (!o.source.model.empty()) {
-    Eigen::Vector3f lo, hi;
-    placed.plant.bounds(lo, hi);
-    c.sector.height_m = std::max(0.05, double(hi.z()) - placed.plant.base_position.z());
-  }
+  scenario::fitSectorToPlant(placed, o.sector_height, c);
   c.validate();
   return c;
 }
@@ -126,7 +115,8 @@ void writeSteps(const std::filesystem::path& path, const TrialResult& r)
 }
 
 nlohmann::json summaryJson(const ReconstructOptions& o, const PlacedPlant& placed,
-                           const TrialConfig& c, const Trial& trial, const TrialResult& r)
+                           const TrialConfig& c, const scenario::Attention& attention,
+                           const Trial& trial, const TrialResult& r)
 {
   nlohmann::json j;
   j["plant"] = {{"name", placed.plant.name}, {"description", placed.description}};
@@ -134,7 +124,7 @@ nlohmann::json summaryJson(const ReconstructOptions& o, const PlacedPlant& place
   j["config"] = {
       {"planner", plannerKindName(c.planner)},
       {"pattern", c.pattern},
-      {"attention", o.attention},
+      {"attention", attention.name()},
       {"views", c.views},
       {"candidates", c.grid_rows * c.grid_cols * c.samples_per_cell},
       {"seed", c.seed},
@@ -216,9 +206,17 @@ void renderSnapshot(const PlacedPlant& placed, const TrialConfig& c, const Trial
 
 void runReconstruct(const ReconstructOptions& o)
 {
-  const PlacedPlant placed = makePlacedPlant(o.source);
+  if (o.snapshot)
+    requireDisplayOrReexec();
+  const PlacedPlant placed = placePlant(o.plant);
   const TrialConfig config = trialConfig(o, placed);
-  const Roi attention = attentionRoi(placed, o.attention);
+  scenario::Attention attention;
+  try {
+    attention = scenario::Attention::parse(o.attention);
+  } catch (const InvalidArgumentError& e) {
+    throw InvalidArgumentError(std::string("--attention: ") + e.what());
+  }
+  const Roi attention_roi = scenario::attentionRoi(placed, attention);
   const std::filesystem::path dir(o.output_dir);
   std::error_code ec;
   std::filesystem::create_directories(dir, ec);
@@ -226,15 +224,13 @@ void runReconstruct(const ReconstructOptions& o)
     throw IoError("cannot create output directory '" + o.output_dir + "': " + ec.message());
 
   Trial trial(config);
-  trial.setPlant(std::make_shared<Plant>(placed.plant));
-  trial.setAttentionRoi(attention);
-  const std::vector<EvaluationLevel> levels = evaluationLevels(placed);
-  trial.setEvaluationLevels(levels);
+  const std::vector<EvaluationLevel> levels = scenario::evaluationLevels(placed);
+  scenario::setUpTrial(placed, attention_roi, levels, trial);
   std::cout << placed.plant.name << " (" << placed.description << "): "
             << plannerKindName(config.planner)
             << (config.planner == PlannerKind::predefined
                     ? " pattern " + std::to_string(config.pattern)
-                    : config.planner == PlannerKind::nbv ? " attention " + o.attention
+                    : config.planner == PlannerKind::nbv ? " attention " + attention.name()
                                                           : std::string())
             << ", " << config.views << " views, "
             << config.grid_rows * config.grid_cols * config.samples_per_cell
@@ -260,7 +256,7 @@ void runReconstruct(const ReconstructOptions& o)
 
   writeSteps(dir / "steps.csv", result);
   std::ofstream(dir / "summary.json")
-      << summaryJson(o, placed, config, trial, result).dump(2) << "\n";
+      << summaryJson(o, placed, config, attention, trial, result).dump(2) << "\n";
   trial.getMap().write((dir / "map.bt").string());
   CloudXYZ occupied;
   trial.getMap().getOccupiedVoxelCentres(occupied);
@@ -295,14 +291,14 @@ void addReconstructCommand(CLI::App& app)
   CLI::App* cmd = app.add_subcommand(
       "reconstruct", "Run one reconstruction trial with a planner; write the steps, a "
                      "summary, the map and the reconstruction");
-  addPlantSourceOptions(*cmd, o->source, "--plant");
+  addPlantOptions(*cmd, o->plant, "--plant");
   cmd->add_option("--config", o->config_file,
                   "Trial config (YAML, e.g. data/paper.yaml); options below override it");
   cmd->add_option("--planner", o->planner, "nbv, predefined or random (default nbv)");
   cmd->add_option("--pattern", o->pattern, "Pattern of the predefined planner, 1-4");
   cmd->add_option("--attention", o->attention,
-                  "ROI of the NBV planner: whole-plant, main-stem, leaf-nodes, fruit or "
-                  "a ROI file")
+                  "ROI of the NBV planner: whole_plant, main_stem, leaf_nodes, fruit ('-' "
+                  "for '_' works too) or an ROI file")
       ->capture_default_str();
   cmd->add_option("--views", o->views, "View budget, v0 included (default 10)");
   cmd->add_option("--candidates", o->candidates,

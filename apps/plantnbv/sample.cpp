@@ -8,6 +8,7 @@
 #include <pcl/point_types.h>
 
 #include <plantnbv/common/error.h>
+#include <plantnbv/common/stopwatch.h>
 #include <plantnbv/common/random.h>
 #include <plantnbv/filters/voxel_grid_filter.h>
 #include <plantnbv/io/cloud_io.h>

@@ -450,7 +450,7 @@ TEST_F(CliTest, CampaignBadFilesAreOneLineErrorsNamingTheKeyPath)
   bad("type.yaml", "views: ten\n" + base.substr(base.find("plants")),
       "views: 'ten' is not an integer");
   bad("zero.yaml", base + "    candidates: [9, 10]\n",
-      "studies[0].candidates[1]: 10 is not a multiple of the 9 grid cells");
+      "studies[0].candidates[1] 10: expected a multiple of the 9 grid cells");
   bad("roi.yaml",
       base.substr(0, base.find("      - {type: nbv")) +
           "      - {type: nbv, attention: stems}\n",
@@ -689,6 +689,27 @@ std::map<int, std::vector<std::string>> taskFileIds(const fs::path& file)
 }
 
 } // namespace
+
+TEST_F(CliTest, CampaignReportReadsResultsOfTheFirstRelease)
+{
+  // data/fixtures/campaign-0.1.0: a campaign directory written by plantnbv 0.1.0 (its
+  // campaign.yaml spells the attention leaf-nodes), with that release's report beside
+  // it. Read today, the report is the same, byte for byte.
+  const fs::path fixture = fs::path(kFixtures) / "campaign-0.1.0";
+  const fs::path dir = path("old");
+  fs::create_directories(dir);
+  fs::copy(fixture / "campaign.yaml", dir / "campaign.yaml");
+  fs::copy(fixture / "trials", dir / "trials");
+  const ToolRun status = run("campaign status " + dir.string());
+  ASSERT_EQ(status.code, 0) << status.err;
+  EXPECT_NE(status.out.find("8 trials, 8 done, 0 failed, 0 missing"), std::string::npos)
+      << status.out;
+  const ToolRun report = run("campaign report " + dir.string() + " --no-figures -o " +
+                             path("report"));
+  ASSERT_EQ(report.code, 0) << report.err;
+  EXPECT_EQ(slurp(path("report") + "/curves.csv"), slurp(fixture / "report-curves.csv"));
+  EXPECT_EQ(slurp(path("report") + "/summary.md"), slurp(fixture / "report-summary.md"));
+}
 
 TEST_F(CliTest, CampaignSubmitBadInputsAreOneLineErrors)
 {

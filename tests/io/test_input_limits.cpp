@@ -345,15 +345,15 @@ TEST(NonFinite, RoiBoxesAreRejectedNamingTheBoxAndKey)
     return thrownMessage<FormatError>([&] { loadRoi(path); });
   };
   EXPECT_TRUE(contains(message("{center: [0, .nan, 0], size: [1, 1, 1]}"),
-                       "box 1: center must be 3 numbers, got [0, .nan, 0]"));
+                       "boxes[1].center: expected 3 numbers, got [0, .nan, 0]"));
   EXPECT_TRUE(contains(message("{center: [0, 0, 0], size: [1, .inf, 1]}"),
-                       "box 1: size must be 3 non-negative numbers, got [1, .inf, 1]"));
+                       "boxes[1].size: expected 3 non-negative numbers, got [1, .inf, 1]"));
   EXPECT_TRUE(contains(message("{center: [0, 0, -.Inf], size: [1, 1, 1]}"),
-                       "box 1: center must be 3 numbers"));
+                       "boxes[1].center: expected 3 numbers"));
   // min > max: a negative size.
   EXPECT_TRUE(contains(message("{center: [0, 0, 0], size: [1, -0.1, 1]}"),
-                       "box 1: size must be 3 non-negative numbers"));
+                       "boxes[1].size: expected 3 non-negative numbers"));
   // Finite, but the corners overflow.
   EXPECT_TRUE(contains(message("{center: [1e308, 0, 0], size: [1.7e308, 1, 1]}"),
-                       "box 1: center +- size/2 overflows"));
+                       "boxes[1]: center +- size/2 overflows"));
 }

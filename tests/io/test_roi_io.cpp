@@ -88,34 +88,33 @@ TEST(RoiIo, NegativeSizeNamesTheBoxAndKey)
                                         "    size: [1, 1, 1]\n"
                                         "  - center: [0, 0, 0]\n"
                                         "    size: [0.1, -0.2, 0.3]\n");
-  EXPECT_EQ(msg,
-            dir.file("rois.yaml") +
-                ": box 2: size must be 3 non-negative numbers, got [0.1, -0.2, 0.3]");
+  EXPECT_EQ(msg, "'" + dir.file("rois.yaml") +
+                     "' boxes[2].size: expected 3 non-negative numbers, got [0.1, -0.2, 0.3]");
 }
 
 TEST(RoiIo, MissingKey)
 {
   TempDir dir;
   const std::string msg = roiError(dir, "boxes:\n  - name: a\n    center: [0, 0, 0]\n");
-  EXPECT_NE(msg.find("box 0: missing key 'size'"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("boxes[0]: missing key 'size'"), std::string::npos) << msg;
 }
 
 TEST(RoiIo, WrongVectorLengthAndNonNumbers)
 {
   TempDir dir;
   std::string msg = roiError(dir, "boxes:\n  - center: [0, 0]\n    size: [1, 1, 1]\n");
-  EXPECT_NE(msg.find("box 0: center must be 3 numbers, got [0, 0]"), std::string::npos)
+  EXPECT_NE(msg.find("boxes[0].center: expected 3 numbers, got [0, 0]"), std::string::npos)
       << msg;
   msg = roiError(dir, "boxes:\n  - center: [0, x, 0]\n    size: [1, 1, 1]\n");
-  EXPECT_NE(msg.find("center must be 3 numbers, got [0, x, 0]"), std::string::npos)
+  EXPECT_NE(msg.find("center: expected 3 numbers, got [0, x, 0]"), std::string::npos)
       << msg;
   msg = roiError(dir, "boxes:\n  - center: 5\n    size: [1, 1, 1]\n");
-  EXPECT_NE(msg.find("center must be 3 numbers, got 5"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("center: expected 3 numbers, got 5"), std::string::npos) << msg;
   msg = roiError(dir, "boxes:\n  - center: [0, 0, .nan]\n    size: [1, 1, 1]\n");
-  EXPECT_NE(msg.find("center must be 3 numbers"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("center: expected 3 numbers"), std::string::npos) << msg;
   msg = roiError(dir,
                  "boxes:\n  - name: [a]\n    center: [0, 0, 0]\n    size: [1, 1, 1]\n");
-  EXPECT_NE(msg.find("box 0: name must be a string"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("boxes[0].name: expected a name, got [a]"), std::string::npos) << msg;
 }
 
 TEST(RoiIo, UnknownKeysAreRejected)
@@ -123,10 +122,10 @@ TEST(RoiIo, UnknownKeysAreRejected)
   TempDir dir;
   std::string msg = roiError(
       dir, "boxes:\n  - center: [0, 0, 0]\n    size: [1, 1, 1]\n    colour: red\n");
-  EXPECT_NE(msg.find("box 0: unknown key 'colour'"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("boxes[0].colour: unknown key (expected one of center, name, size)"), std::string::npos) << msg;
   msg =
       roiError(dir, "boxes:\n  - center: [0, 0, 0]\n    size: [1, 1, 1]\nframe: world\n");
-  EXPECT_NE(msg.find("unknown key 'frame'"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("frame: unknown key (expected one of boxes)"), std::string::npos) << msg;
 }
 
 TEST(RoiIo, NotYamlAndNoBoxes)
@@ -143,11 +142,11 @@ TEST(RoiIo, NotYamlAndNoBoxes)
   msg = roiError(dir, "{}\n");
   EXPECT_NE(msg.find("no boxes"), std::string::npos) << msg;
   msg = roiError(dir, "boxes: {center: [0, 0, 0]}\n");
-  EXPECT_NE(msg.find("boxes must be a list"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("boxes: expected a list of boxes"), std::string::npos) << msg;
   msg = roiError(dir, "- just a list\n");
   EXPECT_NE(msg.find("expected a map"), std::string::npos) << msg;
   msg = roiError(dir, "boxes:\n  - 3\n");
-  EXPECT_NE(msg.find("box 0: expected a map"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("boxes[0]: expected a map"), std::string::npos) << msg;
 }
 
 TEST(RoiIo, MissingFileIsAnIoError)

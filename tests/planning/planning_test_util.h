@@ -9,6 +9,7 @@
 #include <pcl/point_cloud.h>
 #include <pcl/point_types.h>
 
+#include <plantnbv/experiment/plant_scene.h>
 #include <plantnbv/octree/occupancy_map.h>
 #include <plantnbv/planning/cylindrical_sector_sampler.h>
 #include <plantnbv/planning/viewpoint_sampler.h>

@@ -31,6 +31,7 @@ struct KeyCollector {
 TEST(RayTraversal, SameVoxelsAsOctoMapsComputeRayKeys)
 {
   const double res = 0.003;
+  const plantnbv::VoxelLattice lattice(res);
   octomap::OcTree tree(res);
   plantnbv::Rng rng(11);
   octomap::KeyRay ray;
@@ -45,10 +46,10 @@ TEST(RayTraversal, SameVoxelsAsOctoMapsComputeRayKeys)
     if (i % 17 == 0)
       e[0] = o[0] + 0.001f; // within one or two voxels
     int ko[3], ke[3];
-    ASSERT_TRUE(rt::coordToKeyChecked(1.0 / res, o, ko));
-    ASSERT_TRUE(rt::coordToKeyChecked(1.0 / res, e, ke));
+    ASSERT_TRUE(lattice.coordToKey(o, ko));
+    ASSERT_TRUE(lattice.coordToKey(e, ke));
     KeyCollector ours;
-    rt::traverseRay(o, e, ko, ke, res, ours);
+    rt::traverseRay(o, e, ko, ke, lattice, ours);
     ASSERT_TRUE(tree.computeRayKeys(octomap::point3d(o[0], o[1], o[2]),
                                     octomap::point3d(e[0], e[1], e[2]), ray));
     const std::vector<octomap::OcTreeKey> theirs(ray.begin(), ray.end());
@@ -89,7 +90,7 @@ TEST(RayTraversal, JumpingPerAxisGivesTheStepByStepState)
   // OctoMap's steps are the merge of the axes' border crossings ordered by t: taking,
   // per axis, every addition with t_max < T gives the state of stepping while the
   // entry t of the next step is < T.
-  const double res = 0.003;
+  const plantnbv::VoxelLattice lattice(0.003);
   plantnbv::Rng rng(8);
   for (int i = 0; i < 2000; ++i) {
     float o[3], e[3];
@@ -98,10 +99,10 @@ TEST(RayTraversal, JumpingPerAxisGivesTheStepByStepState)
       e[a] = static_cast<float>(o[a] + rng.uniform(-0.75, 0.75));
     }
     int ko[3] = {0, 0, 0}, ke[3] = {0, 0, 0};
-    ASSERT_TRUE(rt::coordToKeyChecked(1.0 / res, o, ko));
-    ASSERT_TRUE(rt::coordToKeyChecked(1.0 / res, e, ke));
+    ASSERT_TRUE(lattice.coordToKey(o, ko));
+    ASSERT_TRUE(lattice.coordToKey(e, ke));
     rt::RaySetup s;
-    if (!rt::setupRay(o, e, ko, ke, res, s))
+    if (!rt::setupRay(o, e, ko, ke, lattice, s))
       continue;
     const double target = rng.uniform() * s.length;
     // Step by step, OctoMap's comparisons.

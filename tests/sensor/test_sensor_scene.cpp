@@ -144,32 +144,3 @@ TEST(SensorScene, RejectsBadGeometry)
   EXPECT_EQ(scene.geometryCount(), 0u);
 }
 
-TEST(SensorScene, PlantSceneHasFloorAndSupportByDefault)
-{
-  Plant plant =
-      plantFromMesh(test::makeQuad(Eigen::Vector3d(0, 0, 0.2), Eigen::Vector3d::UnitX(),
-                                   Eigen::Vector3d::UnitZ(), 0.2, PartLabel::stem),
-                    "quad");
-  posePlant(plant, Eigen::Vector3d(1.0, 0.0, 0.8), 0.0);
-  SensorScene::Ptr scene = makePlantScene(plant);
-  EXPECT_TRUE(scene->isCommitted());
-  EXPECT_EQ(scene->geometryCount(), 3u);
-  EXPECT_EQ(scene->triangleCount(), 2u + 2u + 12u);
-
-  SceneConfig bare;
-  bare.floor = false;
-  bare.support = false;
-  EXPECT_EQ(makePlantScene(plant, bare)->geometryCount(), 1u);
-
-  SceneConfig bad;
-  bad.floor_half_size_m = -1.0;
-  EXPECT_THROW(makePlantScene(plant, bad), InvalidArgumentError);
-  EXPECT_THROW(makePlantScene(Plant()), InvalidArgumentError);
-
-  // A scan plant becomes surfels.
-  Plant scan = plantFromScan(gridPoints(10, 0.005f, 0.0f), {}, "scan");
-  posePlant(scan, Eigen::Vector3d(1.0, 0.0, 0.8), 0.0);
-  SensorScene::Ptr scan_scene = makePlantScene(scan, bare);
-  EXPECT_EQ(scan_scene->surfelCount(), 100u);
-  EXPECT_EQ(scan_scene->triangleCount(), 0u);
-}

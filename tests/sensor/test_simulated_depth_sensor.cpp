@@ -10,6 +10,7 @@
 
 #include <plantnbv/common/error.h>
 #include <plantnbv/common/random.h>
+#include <plantnbv/experiment/plant_scene.h>
 #include <plantnbv/plant/tomato_plant_generator.h>
 #include <plantnbv/sensor/simulated_depth_sensor.h>
 
@@ -404,7 +405,7 @@ TEST(SimulatedDepthSensor, SeesThePlantFromTheInitialView)
   EXPECT_GT(centre_stem, 100u);
 
   // Without floor and support nothing is background.
-  SceneConfig bare;
+  PlantSceneConfig bare;
   bare.floor = bare.support = false;
   sensor.setScene(makePlantScene(plant, bare));
   sensor.capture(kV0, cloud);

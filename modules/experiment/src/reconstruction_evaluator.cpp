@@ -14,7 +14,7 @@
 #include <plantnbv/filters/roi_crop.h>
 #include <plantnbv/filters/voxel_grid_filter.h>
 #include <plantnbv/metrics/reconstruction_metrics.h>
-#include <plantnbv/octree/ray_traversal.h>
+#include <plantnbv/common/voxel_lattice.h>
 #include <plantnbv/sampling/mesh_sampler.h>
 
 namespace plantnbv {
@@ -31,8 +31,8 @@ CloudXYZ::Ptr crop(const CloudXYZ::ConstPtr& cloud, const Roi& roi)
   return out;
 }
 
-/// A voxel of OctoMap's lattice: its three 16-bit keys (ray_traversal.h, the map's own
-/// key arithmetic) packed into one integer.
+/// A voxel of OctoMap's lattice: its three 16-bit keys (common/voxel_lattice.h, the map's
+/// own key arithmetic) packed into one integer.
 using VoxelKey = std::uint64_t;
 
 VoxelKey packKey(const int key[3])
@@ -40,11 +40,11 @@ VoxelKey packKey(const int key[3])
   return VoxelKey(key[0]) << 32 | VoxelKey(key[1]) << 16 | VoxelKey(key[2]);
 }
 
-bool keyOf(const pcl::PointXYZ& p, double resolution, VoxelKey& key)
+bool keyOf(const pcl::PointXYZ& p, const VoxelLattice& lattice, VoxelKey& key)
 {
   const float xyz[3] = {p.x, p.y, p.z};
   int k[3];
-  if (!ray_traversal::coordToKeyChecked(1.0 / resolution, xyz, k))
+  if (!lattice.coordToKey(xyz, k))
     return false;
   key = packKey(k);
   return true;
@@ -76,6 +76,7 @@ void ReconstructionEvaluator::Impl::updateBackgroundKeys(
   background_keys.clear();
   if (background.empty() || levels.empty() || !ground_truth)
     return;
+  const VoxelLattice lattice(resolution);
   Roi all;
   for (const EvaluationLevel& level : levels)
     for (const Box& box : level.roi.boxes())
@@ -85,7 +86,7 @@ void ReconstructionEvaluator::Impl::updateBackgroundKeys(
   std::unordered_set<VoxelKey> truth;
   for (const pcl::PointXYZ& p : *ground_truth) {
     VoxelKey key;
-    if (keyOf(p, resolution, key))
+    if (keyOf(p, lattice, key))
       truth.insert(key);
   }
   // A voxel is background if the triangle meets it or one of its 26 neighbours: the
@@ -103,8 +104,8 @@ void ReconstructionEvaluator::Impl::updateBackgroundKeys(
     int first[3], last[3];
     bool inside = true; // no map voxel lies outside the octree
     for (int i = 0; i < 3; ++i)
-      inside = inside && ray_traversal::coordToKeyChecked(1.0 / resolution, from[i], first[i]) &&
-               ray_traversal::coordToKeyChecked(1.0 / resolution, to[i], last[i]);
+      inside = inside && lattice.coordToKey(from[i], first[i]) &&
+               lattice.coordToKey(to[i], last[i]);
     if (!inside)
       continue;
     int k[3];
@@ -114,9 +115,8 @@ void ReconstructionEvaluator::Impl::updateBackgroundKeys(
           const VoxelKey key = packKey(k);
           if (truth.count(key) || background_keys.count(key))
             continue;
-          const Eigen::Vector3d centre(ray_traversal::keyToCoord(resolution, k[0]),
-                                       ray_traversal::keyToCoord(resolution, k[1]),
-                                       ray_traversal::keyToCoord(resolution, k[2]));
+          const Eigen::Vector3d centre(lattice.keyToCoord(k[0]), lattice.keyToCoord(k[1]),
+                                       lattice.keyToCoord(k[2]));
           if (Box(centre, near_size).overlapsTriangle(a, b, c))
             background_keys.insert(key);
         }
@@ -233,11 +233,12 @@ void ReconstructionEvaluator::compute(const CloudXYZ& reconstruction,
   if (impl_->background_keys.empty()) {
     *kept = reconstruction;
   } else {
+    const VoxelLattice lattice(resolution_m_);
     kept->reserve(reconstruction.size());
     for (const pcl::PointXYZ& p : reconstruction) {
       VoxelKey key;
       if (impl_->background_region.contains(p.x, p.y, p.z) &&
-          keyOf(p, resolution_m_, key) && impl_->background_keys.count(key))
+          keyOf(p, lattice, key) && impl_->background_keys.count(key))
         continue;
       kept->push_back(p);
     }

@@ -10,9 +10,9 @@
 #include <plantnbv/common/error.h>
 #include <plantnbv/common/random.h>
 #include <plantnbv/common/stopwatch.h>
+#include <plantnbv/experiment/plant_scene.h>
 #include <plantnbv/experiment/trial.h>
 #include <plantnbv/planning/view_planner.h>
-#include <plantnbv/sensor/sensor_scene.h>
 #include <plantnbv/sensor/simulated_depth_sensor.h>
 
 namespace plantnbv {

@@ -5,10 +5,9 @@
 #include <fstream>
 #include <sstream>
 
-#include <yaml-cpp/yaml.h>
-
 #include <plantnbv/common/error.h>
 #include <plantnbv/io/roi_io.h>
+#include <plantnbv/io/yaml_reader.h>
 
 #include "io_util.h"
 
@@ -17,95 +16,36 @@ namespace io {
 
 namespace {
 
-/// The node as the user wrote it, in flow style, for error messages.
-std::string describe(const YAML::Node& node)
+Box readBox(const YamlReader& r, const YAML::Node& node, const std::string& path)
 {
-  switch (node.Type()) {
-  case YAML::NodeType::Undefined:
-  case YAML::NodeType::Null:
-    return "nothing";
-  case YAML::NodeType::Scalar:
-    return node.Scalar();
-  case YAML::NodeType::Sequence: {
-    std::string s = "[";
-    for (std::size_t i = 0; i < node.size(); ++i)
-      s += (i ? ", " : "") + describe(node[i]);
-    return s + "]";
-  }
-  case YAML::NodeType::Map: {
-    std::string s = "{";
-    bool first = true;
-    for (const auto& kv : node) {
-      s += (first ? "" : ", ") + describe(kv.first) + ": " + describe(kv.second);
-      first = false;
-    }
-    return s + "}";
-  }
-  }
-  return "?";
-}
-
-/// Parses a YAML scalar as a double with the C locale; false if it is not a number.
-bool parseNumber(const YAML::Node& node, double& value)
-{
-  if (!node.IsScalar())
-    return false;
-  std::string text = node.Scalar();
-  if (!text.empty() && text.front() == '+')
-    text.erase(0, 1);
-  const char* end = text.data() + text.size();
-  const auto result = std::from_chars(text.data(), end, value);
-  return !text.empty() && result.ec == std::errc() && result.ptr == end;
-}
-
-/// Reads `key` of a box as exactly three finite (and, for sizes, non-negative) numbers.
-Eigen::Vector3d readVector(const std::string& prefix, const YAML::Node& box,
-                           const char* key, bool non_negative)
-{
-  const YAML::Node node = box[key];
-  if (!node)
-    throw FormatError(prefix + "missing key '" + key + "'");
-  const std::string expected = std::string(key) + " must be 3 " +
-                               (non_negative ? "non-negative " : "") + "numbers, got " +
-                               describe(node);
-  if (!node.IsSequence() || node.size() != 3)
-    throw FormatError(prefix + expected);
-  Eigen::Vector3d v;
-  for (std::size_t i = 0; i < 3; ++i) {
-    double x = 0.0;
-    if (!parseNumber(node[i], x) || !std::isfinite(x) || (non_negative && x < 0.0))
-      throw FormatError(prefix + expected);
-    v[static_cast<Eigen::Index>(i)] = x;
-  }
-  return v;
-}
-
-Box readBox(const std::string& path, std::size_t index, const YAML::Node& node)
-{
-  const std::string prefix = detail::where(path) + "box " + std::to_string(index) + ": ";
-  if (!node.IsMap())
-    throw FormatError(prefix +
-                      "expected a map with center, size and an optional name, got " +
-                      describe(node));
-  for (const auto& kv : node) {
-    const std::string key = kv.first.IsScalar() ? kv.first.Scalar() : describe(kv.first);
-    if (key != "name" && key != "center" && key != "size")
-      throw FormatError(prefix + "unknown key '" + key +
-                        "' (expected name, center, size)");
-  }
   std::string name;
-  if (const YAML::Node n = node["name"]) {
-    if (!n.IsScalar())
-      throw FormatError(prefix + "name must be a string, got " + describe(n));
-    name = n.Scalar();
-  }
-  const Eigen::Vector3d center = readVector(prefix, node, "center", false);
-  const Eigen::Vector3d size = readVector(prefix, node, "size", true);
+  std::vector<double> center, size;
+  if (!node.IsMap())
+    r.fail(path, "expected a map with center, size and an optional name, got " +
+                     YamlReader::describe(node));
+  r.forEach(node, path,
+            {{"name",
+              [&](const YAML::Node& n, const std::string& k) {
+                name = r.read<std::string>(n, k, "a name");
+              }},
+             {"center",
+              [&](const YAML::Node& n, const std::string& k) {
+                center = r.readNumbers(n, k, 3);
+              }},
+             {"size", [&](const YAML::Node& n, const std::string& k) {
+                size = r.readNumbers(n, k, 3, /*non_negative=*/true);
+              }}});
+  if (center.empty())
+    r.fail(path, "missing key 'center'");
+  if (size.empty())
+    r.fail(path, "missing key 'size'");
   // Finite numbers can still overflow to an infinite corner (e.g. size 1e308 at 1e308).
-  const Box box(center, size, name);
+  const Box box(Eigen::Vector3d(center[0], center[1], center[2]),
+                Eigen::Vector3d(size[0], size[1], size[2]), name);
   if (!box.min().allFinite() || !box.max().allFinite())
-    throw FormatError(prefix + "center +- size/2 overflows: center " +
-                      describe(node["center"]) + ", size " + describe(node["size"]));
+    r.fail(path, "center +- size/2 overflows: center " +
+                     YamlReader::describe(node["center"]) + ", size " +
+                     YamlReader::describe(node["size"]));
   return box;
 }
 
@@ -156,40 +96,26 @@ std::string yamlVector(const Eigen::Vector3d& v)
          exactNumber(v.z()) + "]";
 }
 
-} // namespace
-
-namespace {
-
 Roi parseRoi(const std::string& path, const std::string& text)
 {
-  YAML::Node root;
-  try {
-    root = YAML::Load(text);
-  } catch (const YAML::Exception& e) {
-    throw FormatError(detail::where(path) + "not valid YAML: " + e.what());
-  }
+  const YamlReader r(path);
+  const YAML::Node root = r.parse(text);
   if (!root || root.IsNull())
-    throw FormatError(detail::where(path) + "no boxes (the file is empty)");
-  if (!root.IsMap())
-    throw FormatError(detail::where(path) + "expected a map with the key 'boxes', got " +
-                      describe(root));
-  for (const auto& kv : root) {
-    const std::string key = kv.first.IsScalar() ? kv.first.Scalar() : describe(kv.first);
-    if (key != "boxes")
-      throw FormatError(detail::where(path) + "unknown key '" + key +
-                        "' (expected boxes)");
-  }
-  const YAML::Node boxes = root["boxes"];
-  if (!boxes)
-    throw FormatError(detail::where(path) + "no boxes (missing key 'boxes')");
-  if (!boxes.IsSequence() && !boxes.IsNull())
-    throw FormatError(detail::where(path) + "boxes must be a list, got " +
-                      describe(boxes));
-  if (boxes.IsNull() || boxes.size() == 0)
-    throw FormatError(detail::where(path) + "no boxes");
+    r.fail("", "no boxes (the file is empty)");
   Roi roi;
-  for (std::size_t i = 0; i < boxes.size(); ++i)
-    roi.addBox(readBox(path, i, boxes[i]));
+  bool has_boxes = false;
+  r.forEach(root, "",
+            {{"boxes", [&](const YAML::Node& boxes, const std::string& k) {
+                has_boxes = true;
+                if (!boxes.IsSequence() && !boxes.IsNull())
+                  r.fail(k, "expected a list of boxes, got " + YamlReader::describe(boxes));
+                for (std::size_t i = 0; boxes.IsSequence() && i < boxes.size(); ++i)
+                  roi.addBox(readBox(r, boxes[i], YamlReader::index(k, i)));
+              }}});
+  if (!has_boxes)
+    r.fail("", "no boxes (missing key 'boxes')");
+  if (roi.empty())
+    r.fail("boxes", "no boxes");
   return roi;
 }
 

@@ -1,6 +1,5 @@
 #include <algorithm>
 #include <atomic>
-#include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -14,6 +13,7 @@
 #include <pcl/point_types.h>
 
 #include <plantnbv/common/error.h>
+#include <plantnbv/common/stopwatch.h>
 #include <plantnbv/octree/occupancy_map.h>
 #include <plantnbv/octree/ray_traversal.h>
 
@@ -27,17 +27,8 @@ namespace plantnbv {
 
 namespace {
 
-using Clock = std::chrono::steady_clock;
-
-double msSince(Clock::time_point start)
-{
-  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
-}
-
-using ray_traversal::coordToKeyChecked;
-using ray_traversal::kTreeDepth;
-using ray_traversal::kTreeMaxVal;
 using ray_traversal::traverseRay;
+constexpr int kTreeDepth = VoxelLattice::kTreeDepth;
 
 /// The per-frame bitset is made of blocks of 64^3 voxels aligned with the octree (an
 /// octree node at depth 10). Inside a block, voxel (x, y, z) (0..63 each) is bit
@@ -512,7 +503,7 @@ private:
   /// Keys outside the octree (OctoMap would wrap them) are dropped.
   void outside()
   {
-    const int limit = 2 * kTreeMaxVal;
+    const int limit = VoxelLattice::kKeyLimit;
     if (key_[0] < 0 || key_[1] < 0 || key_[2] < 0 || key_[0] >= limit ||
         key_[1] >= limit || key_[2] >= limit)
       return;
@@ -603,9 +594,8 @@ template <typename PointT>
 void OccupancyMap::insertImpl(const pcl::PointCloud<PointT>& points_W,
                               const Eigen::Vector3d& sensor_origin_W)
 {
-  const auto start = Clock::now();
-  const double resolution = tree_->getResolution();
-  const double resolution_factor = 1.0 / resolution; // as OcTreeBaseImpl computes it
+  const Stopwatch start;
+  const VoxelLattice lattice(tree_->getResolution());
   const double max_range = config_.max_range_m;
   // OctoMap works with the origin in single precision (point3d).
   const float origin[3] = {static_cast<float>(sensor_origin_W.x()),
@@ -613,11 +603,12 @@ void OccupancyMap::insertImpl(const pcl::PointCloud<PointT>& points_W,
                            static_cast<float>(sensor_origin_W.z())};
   int key_origin[3];
   if (!sensor_origin_W.allFinite() ||
-      !coordToKeyChecked(resolution_factor, origin, key_origin)) {
+      !lattice.coordToKey(origin, key_origin)) {
     std::ostringstream s;
     s << "OccupancyMap::insert: sensor origin (" << sensor_origin_W.x() << ", "
       << sensor_origin_W.y() << ", " << sensor_origin_W.z()
-      << ") is not finite or lies outside the octree (+-" << kTreeMaxVal * resolution
+      << ") is not finite or lies outside the octree (+-"
+      << VoxelLattice::kKeyOffset * lattice.resolution()
       << " m)";
     throw InvalidArgumentError(s.str());
   }
@@ -668,7 +659,7 @@ void OccupancyMap::insertImpl(const pcl::PointCloud<PointT>& points_W,
           ray.end[a] = origin[a] + (d[a] / len) * range;
         ray.hit = false;
       }
-      if (!coordToKeyChecked(resolution_factor, ray.end, ray.key_end)) {
+      if (!lattice.coordToKey(ray.end, ray.key_end)) {
         ++outside_map;
         continue;
       }
@@ -687,14 +678,14 @@ void OccupancyMap::insertImpl(const pcl::PointCloud<PointT>& points_W,
   stats.non_finite = non_finite;
   stats.beyond_range = beyond_range;
   stats.outside_map = outside_map;
-  stats.rays_ms = msSince(start);
-  const auto traverse_start = Clock::now();
+  stats.rays_ms = start.ms();
+  const Stopwatch traverse_start;
 
   // 2. The rays' voxels into the bitset, in parallel. A ray's voxels stay within one
   //    voxel of the box of its end voxels (rounding); the table covers that.
   for (int a = 0; a < 3; ++a) {
     key_lo[a] = std::max(key_lo[a] - 1, 0);
-    key_hi[a] = std::min(key_hi[a] + 1, 2 * kTreeMaxVal - 1);
+    key_hi[a] = std::min(key_hi[a] + 1, VoxelLattice::kKeyLimit - 1);
   }
   scratch.prepareTable(key_lo, key_hi);
   scratch.used.clear();
@@ -710,16 +701,16 @@ void OccupancyMap::insertImpl(const pcl::PointCloud<PointT>& points_W,
       const Ray& ray = rays[i];
       if (!ray.valid)
         continue;
-      traverseRay(origin, ray.end, key_origin, ray.key_end, resolution, writer);
+      traverseRay(origin, ray.end, key_origin, ray.key_end, lattice, writer);
       if (ray.hit)
         writer.markOccupied(ray.key_end[0], ray.key_end[1], ray.key_end[2]);
     }
   }
-  stats.traverse_ms = msSince(traverse_start);
+  stats.traverse_ms = traverse_start.ms();
 
   // 3. One ordered walk over the tree: blocks in octree order, voxels in octree order
   //    inside a block. A voxel both free and occupied is occupied only.
-  const auto update_start = Clock::now();
+  const Stopwatch update_start;
   // Should the tree throw (std::bad_alloc), the bitset is left half cleared: start the
   // next frame with new buffers.
   struct ScratchGuard {
@@ -784,8 +775,8 @@ void OccupancyMap::insertImpl(const pcl::PointCloud<PointT>& points_W,
   stats.free_voxels += overflow.size();
   stats.tree_updates += overflow.size();
   guard.done = true;
-  stats.update_ms = msSince(update_start);
-  stats.total_ms = msSince(start);
+  stats.update_ms = update_start.ms();
+  stats.total_ms = start.ms();
   last_stats_ = stats;
 }
 
@@ -801,10 +792,10 @@ bool OccupancyMap::computeKey(const Eigen::Vector3d& point_W,
 {
   if (!point_W.allFinite())
     return false;
-  const double resolution_factor = 1.0 / tree_->getResolution();
+  const VoxelLattice lattice(tree_->getResolution());
   int k[3];
   for (int a = 0; a < 3; ++a)
-    if (!coordToKeyChecked(resolution_factor, point_W[a], k[a]))
+    if (!lattice.coordToKey(point_W[a], k[a]))
       return false;
   key = octomap::OcTreeKey(static_cast<octomap::key_type>(k[0]),
                            static_cast<octomap::key_type>(k[1]),

@@ -13,6 +13,7 @@
 #include <pcl/point_types.h>
 
 #include <plantnbv/common/error.h>
+#include <plantnbv/common/voxel_lattice.h>
 #include <plantnbv/octree/octree_conversion.h>
 
 namespace plantnbv {
@@ -150,8 +151,7 @@ std::unique_ptr<octomap::OcTree> cloudToOcTree(const CloudXYZ& cloud, double res
     throw InvalidArgumentError(s.str());
   }
   auto tree = std::make_unique<octomap::OcTree>(resolution);
-  const double inv = 1.0 / resolution; // OctoMap's resolution_factor
-  const double max_val = 1 << (tree->getTreeDepth() - 1);
+  const VoxelLattice lattice(resolution);
 
   // Distinct voxels first: a voxel hit by several points gets one hit, so the result
   // depends on the set of voxels only, not on point density or order.
@@ -159,18 +159,19 @@ std::unique_ptr<octomap::OcTree> cloudToOcTree(const CloudXYZ& cloud, double res
   for (const pcl::PointXYZ& p : cloud) {
     if (!pcl::isXYZFinite(p)) // NaNs crash OctoMap's key arithmetic
       continue;
-    // OctoMap's coordToKey casts floor(coord / res) to int unchecked: range-check first.
-    for (const float c : {p.x, p.y, p.z}) {
-      const double i = std::floor(inv * static_cast<double>(c));
-      if (!(i >= -max_val && i < max_val)) {
-        std::ostringstream s;
-        s << "cloudToOcTree: point (" << p.x << ", " << p.y << ", " << p.z
-          << ") lies outside the octree's range of +-" << max_val * resolution
-          << " m at resolution " << resolution;
-        throw InvalidArgumentError(s.str());
-      }
+    // OctoMap's coordToKey casts floor(coord / res) to int unchecked: range-checked here.
+    const float xyz[3] = {p.x, p.y, p.z};
+    int k[3];
+    if (!lattice.coordToKey(xyz, k)) {
+      std::ostringstream s;
+      s << "cloudToOcTree: point (" << p.x << ", " << p.y << ", " << p.z
+        << ") lies outside the octree's range of +-"
+        << VoxelLattice::kKeyOffset * resolution << " m at resolution " << resolution;
+      throw InvalidArgumentError(s.str());
     }
-    keys.insert(tree->coordToKey(octomap::point3d(p.x, p.y, p.z)));
+    keys.insert(octomap::OcTreeKey(static_cast<octomap::key_type>(k[0]),
+                                   static_cast<octomap::key_type>(k[1]),
+                                   static_cast<octomap::key_type>(k[2])));
   }
   for (const octomap::OcTreeKey& key : keys)
     tree->updateNode(key, true, /*lazy_eval=*/true);

@@ -13,8 +13,6 @@
 namespace plantnbv {
 namespace gain_detail {
 
-namespace rt = ray_traversal;
-
 void KeyBox::extend(const KeyBox& b)
 {
   if (b.empty())
@@ -29,17 +27,18 @@ void KeyBox::extend(const KeyBox& b)
   }
 }
 
-KeyBox roiKeyBox(const Box& box, double resolution)
+KeyBox roiKeyBox(const Box& box, const VoxelLattice& lattice)
 {
+  const double resolution = lattice.resolution();
   KeyBox k;
   for (int a = 0; a < 3; ++a) {
     const double c = box.center[a], half = 0.5 * box.size[a];
     auto inside = [&](int key) {
-      return std::abs(rt::keyToCoord(resolution, key) - c) <= half;
+      return std::abs(lattice.keyToCoord(key) - c) <= half;
     };
     // A superset of the interval, then shrunk to it with the exact test.
-    const double lo = std::floor((c - half) / resolution) + rt::kTreeMaxVal - 2.0;
-    const double hi = std::ceil((c + half) / resolution) + rt::kTreeMaxVal + 2.0;
+    const double lo = std::floor((c - half) / resolution) + VoxelLattice::kKeyOffset - 2.0;
+    const double hi = std::ceil((c + half) / resolution) + VoxelLattice::kKeyOffset + 2.0;
     int klo = static_cast<int>(std::max(lo, 0.0));
     int khi = static_cast<int>(std::min(hi, kKeyLimit - 1.0));
     while (klo <= khi && !inside(klo))
@@ -137,12 +136,12 @@ std::uint32_t Snapshot::valueIndex(float log_odds)
 
 void Snapshot::collect(const octomap::OcTreeNode* node, int depth, const int k[3])
 {
-  const int size = 1 << (rt::kTreeDepth - depth);
+  const int size = 1 << (VoxelLattice::kTreeDepth - depth);
   const bool near_roi = roi_mode && roi_bbox.overlapsCube(k, size);
   const float log_odds = node->getLogOdds();
   if (!tree->nodeHasChildren(node)) {
     if (full || near_roi || log_odds > threshold_)
-      leaves_.push_back({{k[0], k[1], k[2]}, rt::kTreeDepth - depth, valueIndex(log_odds)});
+      leaves_.push_back({{k[0], k[1], k[2]}, VoxelLattice::kTreeDepth - depth, valueIndex(log_odds)});
     return;
   }
   // Inner nodes hold the maximum of their children (OccupancyMap keeps them so): away
@@ -278,8 +277,8 @@ void Snapshot::build(const octomap::OcTree& octree, const Roi& roi, bool full_ma
 {
   built = false;
   tree = &octree;
-  resolution = tree->getResolution();
-  resolution_factor = 1.0 / resolution; // as OcTreeBaseImpl computes it
+  lattice = VoxelLattice(tree->getResolution());
+  const double resolution = lattice.resolution();
   threshold_ = tree->getOccupancyThresLog();
   roi_mode = !roi.empty();
   full = full_map || !roi_mode;
@@ -287,7 +286,7 @@ void Snapshot::build(const octomap::OcTree& octree, const Roi& roi, bool full_ma
   roi_bbox = KeyBox();
   clip_boxes.clear();
   for (const Box& b : roi.boxes()) {
-    roi_boxes.push_back(roiKeyBox(b, resolution));
+    roi_boxes.push_back(roiKeyBox(b, lattice));
     roi_bbox.extend(roi_boxes.back());
     ClipBox c;
     for (int a = 0; a < 3; ++a) {
@@ -354,7 +353,7 @@ void Snapshot::build(const octomap::OcTree& octree, const Roi& roi, bool full_ma
   }
   if (region.empty()) // nothing known and no ROI voxel: one brick
     for (int a = 0; a < 3; ++a)
-      region.lo[a] = region.hi[a] = rt::kTreeMaxVal;
+      region.lo[a] = region.hi[a] = VoxelLattice::kKeyOffset;
 
   const std::size_t max_code = (values.size() - 1) << kValueShift | kOccupied | kInRoi;
   code_bytes = max_code <= 0xffu ? 1 : (max_code <= 0xffffu ? 2 : 4);

@@ -7,7 +7,7 @@
 #include <vector>
 
 #include <plantnbv/common/box.h>
-#include <plantnbv/octree/ray_traversal.h>
+#include <plantnbv/common/voxel_lattice.h>
 
 namespace octomap {
 class OcTree;
@@ -21,7 +21,7 @@ constexpr int kBrickShift = 3; ///< bricks of 8^3 voxels (octree nodes at depth 
 constexpr int kBrickMask = (1 << kBrickShift) - 1;
 constexpr int kBrickVoxels = 1 << (3 * kBrickShift);
 constexpr std::uint32_t kUniform = 0x80000000u; ///< table entry: one code for the brick
-constexpr int kKeyLimit = 2 * ray_traversal::kTreeMaxVal; ///< keys lie in [0, 65536)
+constexpr int kKeyLimit = VoxelLattice::kKeyLimit; ///< keys lie in [0, 65536)
 
 /// Voxel codes: bit 0 = the voxel centre lies in the ROI (always set without ROI),
 /// bit 1 = occupied, bits 2.. = the index of its value (0 = unknown).
@@ -60,7 +60,7 @@ struct KeyBox {
 /// The keys whose voxel centre `box` contains: exactly Box::contains on OctoMap's
 /// keyToCoord centres (per axis |centre - c| <= size / 2, the same operations), which
 /// per axis is an interval.
-KeyBox roiKeyBox(const Box& box, double resolution);
+KeyBox roiKeyBox(const Box& box, const VoxelLattice& lattice);
 
 /// An axis-aligned box as its corners (metres), for segment clipping.
 struct ClipBox {
@@ -135,8 +135,7 @@ public:
   void build(const octomap::OcTree& tree, const Roi& roi, bool full);
 
   const octomap::OcTree* tree = nullptr;
-  double resolution = 0.0;
-  double resolution_factor = 0.0;
+  VoxelLattice lattice{1.0}; ///< the tree's
   bool roi_mode = false; ///< a non-empty ROI
   bool full = false;
   int code_bytes = 1;    ///< 1, 2 or 4: which of the Bricks below is in use

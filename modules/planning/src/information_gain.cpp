@@ -5,7 +5,6 @@
 // OctoMap's.
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -17,6 +16,7 @@
 #include <octomap/OcTree.h>
 
 #include <plantnbv/common/error.h>
+#include <plantnbv/common/stopwatch.h>
 #include <plantnbv/octree/occupancy_map.h>
 #include <plantnbv/octree/ray_traversal.h>
 #include <plantnbv/planning/information_gain.h>
@@ -30,13 +30,6 @@ namespace rt = ray_traversal;
 using namespace gain_detail;
 
 namespace {
-
-using Clock = std::chrono::steady_clock;
-
-double msSince(Clock::time_point start)
-{
-  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
-}
 
 /// One candidate's set of distinct voxels by key, in a box of bricks, with the largest
 /// visibility per voxel when weighted. Reused: reset() clears only what was used. For
@@ -404,7 +397,7 @@ ViewGain computeGeneral(const Snapshot& snap, const Bricks<CodeT>& bricks,
   float origin[3];
   rayOrigin(view, origin);
   int key_origin[3];
-  if (!rt::coordToKeyChecked(snap.resolution_factor, origin, key_origin))
+  if (!snap.lattice.coordToKey(origin, key_origin))
     return result; // outside the octree: no ray
   const Eigen::Matrix3d R = view.orientation.toRotationMatrix();
   markRays(snap, config, plane, view, R, scratch.ray_marks);
@@ -420,7 +413,9 @@ ViewGain computeGeneral(const Snapshot& snap, const Bricks<CodeT>& bricks,
     }
   } else {
     const int reach =
-        static_cast<int>(std::ceil(config.raycast_range_m * snap.resolution_factor)) + 2;
+        static_cast<int>(
+            std::ceil(config.raycast_range_m * snap.lattice.resolutionFactor())) +
+        2;
     for (int a = 0; a < 3; ++a) {
       const int lo = std::max(key_origin[a] - reach, 0);
       const int hi = std::min(key_origin[a] + reach, kKeyLimit - 1);
@@ -438,7 +433,7 @@ ViewGain computeGeneral(const Snapshot& snap, const Bricks<CodeT>& bricks,
     float end[3];
     rayEnd(R, view.position, dirs[static_cast<std::size_t>(r)], config.raycast_range_m, end);
     int key_end[3];
-    if (!rt::coordToKeyChecked(snap.resolution_factor, end, key_end))
+    if (!snap.lattice.coordToKey(end, key_end))
       continue;
     RayWalker<CodeT, kWeighted> walker{bricks, snap.values.data(), scratch.voxels,
                                        scratch.counts.data()};
@@ -448,7 +443,7 @@ ViewGain computeGeneral(const Snapshot& snap, const Bricks<CodeT>& bricks,
         continue; // misses the ROI
     }
     ++result.rays_cast;
-    rt::traverseRay(origin, end, key_origin, key_end, snap.resolution, walker);
+    rt::traverseRay(origin, end, key_origin, key_end, snap.lattice, walker);
     if (!walker.stopped && !walker.clipped)
       walker.visit(key_end[0], key_end[1], key_end[2]);
   }
@@ -554,9 +549,10 @@ struct JumpRay {
 /// step is the end voxel or trips OctoMap's length rule.
 /// \return 1: nothing on the rest of the ray counts (stop it); 0: continue from t, k.
 template <typename CodeT>
-int jumpEmpty(const Bricks<CodeT>& bricks, const JumpRay& ray, double res, double margin,
-              double t_entry, double t[3], int k[3])
+int jumpEmpty(const Bricks<CodeT>& bricks, const JumpRay& ray, const VoxelLattice& lattice,
+              double margin, double t_entry, double t[3], int k[3])
 {
+  const double res = lattice.resolution();
   int b[3] = {k[0] >> kBrickShift, k[1] >> kBrickShift, k[2] >> kBrickShift};
   double tc[3], tc_step[3]; // where the ray leaves brick b per axis, and per brick
   for (int a = 0; a < 3; ++a) {
@@ -565,7 +561,7 @@ int jumpEmpty(const Bricks<CodeT>& bricks, const JumpRay& ray, double res, doubl
       continue;
     }
     const int key = ray.step[a] > 0 ? (b[a] + 1) << kBrickShift : b[a] << kBrickShift;
-    tc[a] = ((key - rt::kTreeMaxVal) * res - ray.o[a]) * ray.inv_dir[a];
+    tc[a] = (lattice.keyToLowerFace(key) - ray.o[a]) * ray.inv_dir[a];
     tc_step[a] = (1 << kBrickShift) * res * std::fabs(ray.inv_dir[a]);
   }
   const double limit = std::min(ray.t_last, ray.length) + margin;
@@ -612,7 +608,7 @@ ViewGain computeFast(const Snapshot& snap, const Bricks<CodeT>& bricks,
   float origin[3];
   rayOrigin(view, origin);
   int key_origin[3];
-  if (!rt::coordToKeyChecked(snap.resolution_factor, origin, key_origin))
+  if (!snap.lattice.coordToKey(origin, key_origin))
     return result; // outside the octree: no ray
   const Eigen::Matrix3d R = view.orientation.toRotationMatrix();
   markRays(snap, config, plane, view, R, scratch.ray_marks);
@@ -620,15 +616,15 @@ ViewGain computeFast(const Snapshot& snap, const Bricks<CodeT>& bricks,
   seen.reset(snap.roi_bbox);
   scratch.counts.assign(snap.values.size(), 0);
   std::uint32_t* const counts = scratch.counts.data();
-  const double res = snap.resolution;
+  const double res = snap.lattice.resolution();
   // Jumps stop this far (metres) short of the next brick that matters: far more than
   // the traversal's rounding (~1e-13 m), far less than a voxel.
   const double margin = 1e-4 * res;
   // The table's bricks in metres.
   Eigen::Vector3d table_lo, table_hi;
   for (int a = 0; a < 3; ++a) {
-    table_lo[a] = ((bricks.b0[a] << kBrickShift) - rt::kTreeMaxVal) * res;
-    table_hi[a] = (((bricks.b0[a] + bricks.nb[a]) << kBrickShift) - rt::kTreeMaxVal) * res;
+    table_lo[a] = snap.lattice.keyToLowerFace(bricks.b0[a] << kBrickShift);
+    table_hi[a] = snap.lattice.keyToLowerFace((bricks.b0[a] + bricks.nb[a]) << kBrickShift);
   }
   const ClipBox table_box = {{table_lo[0], table_lo[1], table_lo[2]},
                              {table_hi[0], table_hi[1], table_hi[2]}};
@@ -640,7 +636,7 @@ ViewGain computeFast(const Snapshot& snap, const Bricks<CodeT>& bricks,
     float end[3];
     rayEnd(R, view.position, dirs[static_cast<std::size_t>(r)], config.raycast_range_m, end);
     int key_end[3];
-    if (!rt::coordToKeyChecked(snap.resolution_factor, end, key_end))
+    if (!snap.lattice.coordToKey(end, key_end))
       continue;
     const Segment seg(origin, end);
     const double t_stop = clipDistance(snap, seg);
@@ -649,7 +645,7 @@ ViewGain computeFast(const Snapshot& snap, const Bricks<CodeT>& bricks,
     ++result.rays_cast;
 
     rt::RaySetup s;
-    if (!rt::setupRay(origin, end, key_origin, key_end, res, s)) {
+    if (!rt::setupRay(origin, end, key_origin, key_end, snap.lattice, s)) {
       Cursor<CodeT> cursor;
       loadBrick(bricks, seen, key_end[0], key_end[1], key_end[2], cursor); // one voxel
       visitVoxel(cursor, counts, key_end[0], key_end[1], key_end[2]);
@@ -751,7 +747,7 @@ ViewGain computeFast(const Snapshot& snap, const Bricks<CodeT>& bricks,
         if (cursor.empty) {
           double t[3] = {tx, ty, tz};
           int k[3] = {kx, ky, kz};
-          if (jumpEmpty(bricks, jr, res, margin, t_entry, t, k))
+          if (jumpEmpty(bricks, jr, snap.lattice, margin, t_entry, t, k))
             break;
           tx = t[0];
           ty = t[1];
@@ -901,11 +897,11 @@ void InformationGain::update()
 {
   if (!map_)
     throw InvalidArgumentError("InformationGain::update: no map set (setInputMap)");
-  const auto start = Clock::now();
+  const Stopwatch start;
   stats_.map_revision = map_->revision();
   impl_->snapshot.build(map_->getOcTree(), roi_, config_.visibility_weighted);
   dirty_ = false;
-  stats_.update_ms = msSince(start);
+  stats_.update_ms = start.ms();
   stats_.bricks = impl_->snapshot.brick_count;
   stats_.values = impl_->snapshot.values.size();
   stats_.leaves = impl_->snapshot.leaf_count;
@@ -927,7 +923,7 @@ void InformationGain::compute(const std::vector<Viewpoint>& candidates,
                               std::vector<ViewGain>& out)
 {
   ensureSnapshot();
-  const auto start = Clock::now();
+  const Stopwatch start;
   out.assign(candidates.size(), ViewGain());
   const int threads =
       std::max(1, std::min(threads_ > 0 ? threads_ : omp_get_max_threads(),
@@ -940,7 +936,7 @@ void InformationGain::compute(const std::vector<Viewpoint>& candidates,
     out[static_cast<std::size_t>(i)] =
         impl_->compute(config_, impl_->scratch[static_cast<std::size_t>(omp_get_thread_num())],
                        candidates[static_cast<std::size_t>(i)]);
-  stats_.gain_ms = msSince(start);
+  stats_.gain_ms = start.ms();
   stats_.candidates = candidates.size();
   stats_.rays_cast = 0;
   for (const ViewGain& g : out)

@@ -1,8 +1,8 @@
-#include <chrono>
 #include <cmath>
 #include <sstream>
 
 #include <plantnbv/common/error.h>
+#include <plantnbv/common/stopwatch.h>
 #include <plantnbv/octree/occupancy_map.h>
 #include <plantnbv/planning/cylindrical_sector_sampler.h>
 #include <plantnbv/planning/view_planner.h>
@@ -11,22 +11,15 @@ namespace plantnbv {
 
 namespace {
 
-using Clock = std::chrono::steady_clock;
-
-double msSince(Clock::time_point start)
-{
-  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
-}
-
 /// A baseline's result: `views[chosen]` is the next view; only its gain is computed (the
 /// other candidates report gain NaN). `start` is when the planner's compute() began.
 void fillBaselineResult(InformationGain& gain, const std::vector<Viewpoint>& views,
-                        std::size_t chosen, Clock::time_point start, NextViewResult& out)
+                        std::size_t chosen, const Stopwatch& start, NextViewResult& out)
 {
-  const double sample_ms = msSince(start);
-  const auto gain_start = Clock::now();
+  const double sample_ms = start.ms();
+  const Stopwatch gain_start;
   const ViewGain chosen_gain = gain.compute(views[chosen]);
-  out.gain_ms = msSince(gain_start);
+  out.gain_ms = gain_start.ms();
   out.update_ms = gain.getLastStats().rebuilt ? gain.getLastStats().update_ms : 0.0;
   out.candidates.assign(views.size(), CandidateView{});
   for (std::size_t i = 0; i < views.size(); ++i) {
@@ -40,7 +33,7 @@ void fillBaselineResult(InformationGain& gain, const std::vector<Viewpoint>& vie
   out.utility = chosen_gain.gain;
   out.stop = false;
   out.sample_ms = sample_ms;
-  out.total_ms = msSince(start);
+  out.total_ms = start.ms();
 }
 
 } // namespace
@@ -118,14 +111,14 @@ void AttentionNbvPlanner::compute(NextViewResult& out)
     throw InvalidArgumentError("AttentionNbvPlanner::compute: a travel cost weight of " +
                                std::to_string(travel_cost_weight_) +
                                " needs the current view (setCurrentView)");
-  const auto start = Clock::now();
+  const Stopwatch start;
   sampler_->sample(rng_, views_);
-  const double sample_ms = msSince(start);
+  const double sample_ms = start.ms();
   if (views_.empty())
     throw InvalidArgumentError("AttentionNbvPlanner::compute: the sampler drew no candidate");
-  const auto gain_start = Clock::now();
+  const Stopwatch gain_start;
   gain_.compute(views_, gains_);
-  const double gain_ms = msSince(gain_start);
+  const double gain_ms = gain_start.ms();
 
   // Arg max of the utility; strict > keeps the lowest index on ties.
   std::size_t best = 0;
@@ -153,7 +146,7 @@ void AttentionNbvPlanner::compute(NextViewResult& out)
   out.sample_ms = sample_ms;
   out.gain_ms = gain_ms;
   out.update_ms = gain_.getLastStats().rebuilt ? gain_.getLastStats().update_ms : 0.0;
-  out.total_ms = msSince(start);
+  out.total_ms = start.ms();
 }
 
 // --- PredefinedPlanner ------------------------------------------------------------------
@@ -221,7 +214,7 @@ void PredefinedPlanner::compute(NextViewResult& out)
     throw InvalidArgumentError("PredefinedPlanner::compute: the candidate sampler must be a "
                                "CylindricalSectorSampler (its grid cell centres are the "
                                "pre-defined views)");
-  const auto start = Clock::now();
+  const Stopwatch start;
   const std::vector<Viewpoint> centres = sector->gridCellCentres();
   const std::vector<int> order = patternOrder(pattern_, sector->getRows(), sector->getCols());
   const std::size_t chosen = static_cast<std::size_t>(order[step_ % order.size()]);
@@ -234,7 +227,7 @@ void PredefinedPlanner::compute(NextViewResult& out)
 void RandomPlanner::compute(NextViewResult& out)
 {
   requireInputs("RandomPlanner::compute");
-  const auto start = Clock::now();
+  const Stopwatch start;
   sampler_->sample(rng_, views_);
   if (views_.empty())
     throw InvalidArgumentError("RandomPlanner::compute: the sampler drew no candidate");

@@ -4,7 +4,7 @@
 
 #include <Eigen/Geometry>
 
-#include <plantnbv/plant/portable_math.h>
+#include <plantnbv/common/portable_math.h>
 
 namespace plantnbv {
 namespace plant_detail {

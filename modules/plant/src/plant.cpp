@@ -6,7 +6,7 @@
 
 #include <plantnbv/common/error.h>
 #include <plantnbv/plant/plant.h>
-#include <plantnbv/plant/portable_math.h>
+#include <plantnbv/common/portable_math.h>
 
 namespace plantnbv {
 

@@ -8,8 +8,6 @@ namespace plantnbv {
 
 namespace {
 
-constexpr const char* kKindNames[] = {"whole_plant", "main_stem", "leaf_nodes", "fruits"};
-
 Roi stemCentredRoi(const Plant& plant, const Eigen::Vector3d& size,
                    double center_height_m, const char* name)
 {
@@ -26,20 +24,6 @@ Roi stemCentredRoi(const Plant& plant, const Eigen::Vector3d& size,
 }
 
 } // namespace
-
-const char* plantRoiKindName(PlantRoiKind kind)
-{
-  return kKindNames[static_cast<int>(kind)];
-}
-
-PlantRoiKind plantRoiKindFromName(const std::string& name)
-{
-  for (int i = 0; i < 4; ++i)
-    if (name == kKindNames[i])
-      return static_cast<PlantRoiKind>(i);
-  throw InvalidArgumentError("unknown plant ROI '" + name +
-                             "' (expected whole_plant, main_stem, leaf_nodes or fruits)");
-}
 
 Roi wholePlantRoi(const Plant& plant, const Eigen::Vector3d& size, double center_height_m)
 {
@@ -113,16 +97,16 @@ Roi fruitRoi(const Plant& plant, double margin_m)
   return roi;
 }
 
-Roi plantRoi(const Plant& plant, PlantRoiKind kind)
+Roi plantRoi(const Plant& plant, RoiKind kind)
 {
   switch (kind) {
-  case PlantRoiKind::whole_plant:
+  case RoiKind::whole_plant:
     return wholePlantRoi(plant);
-  case PlantRoiKind::main_stem:
+  case RoiKind::main_stem:
     return mainStemRoi(plant);
-  case PlantRoiKind::leaf_nodes:
+  case RoiKind::leaf_nodes:
     return leafNodeRoi(plant);
-  case PlantRoiKind::fruits:
+  case RoiKind::fruit:
     return fruitRoi(plant);
   }
   throw InvalidArgumentError("unknown plant ROI kind " +

@@ -6,7 +6,7 @@
 
 #include <plantnbv/common/error.h>
 #include <plantnbv/common/random.h>
-#include <plantnbv/plant/portable_math.h>
+#include <plantnbv/common/portable_math.h>
 #include <plantnbv/plant/tomato_plant_generator.h>
 
 #include "mesh_builder.h"

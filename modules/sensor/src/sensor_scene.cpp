@@ -10,7 +10,6 @@
 #include <pcl/point_types.h>
 
 #include <plantnbv/common/error.h>
-#include <plantnbv/plant/plant.h>
 
 #include "sensor_scene_impl.h"
 
@@ -71,8 +70,11 @@ void requirePositive(double value, const char* name)
   }
 }
 
-void validateSurfelOptions(const SurfelOptions& o)
+} // namespace
+
+void SurfelOptions::validate() const
 {
+  const SurfelOptions& o = *this;
   if (!(std::isfinite(o.radius_m) && o.radius_m >= 0.0)) {
     std::ostringstream s;
     s << "SurfelOptions::radius_m = " << o.radius_m
@@ -85,6 +87,8 @@ void validateSurfelOptions(const SurfelOptions& o)
         " must be in [1, 32]");
   requirePositive(o.radius_factor, "SurfelOptions::radius_factor");
 }
+
+namespace {
 
 /// nanoflann's view of a point vector.
 struct PointsAdaptor {
@@ -115,7 +119,7 @@ void checkPoints(const std::vector<Eigen::Vector3f>& points, const char* what)
 std::vector<float> surfelRadii(const std::vector<Eigen::Vector3f>& points,
                                const SurfelOptions& options)
 {
-  validateSurfelOptions(options);
+  options.validate();
   checkPoints(points, "surfelRadii");
   if (options.radius_m > 0.0)
     return std::vector<float>(points.size(), float(options.radius_m));
@@ -155,15 +159,6 @@ std::vector<float> surfelRadii(const std::vector<Eigen::Vector3f>& points,
   for (float& r : spacing)
     r = factor * std::clamp(r, 0.25f * median, 4.0f * median);
   return spacing;
-}
-
-void SceneConfig::validate() const
-{
-  if (!std::isfinite(floor_height_m))
-    throw InvalidArgumentError("SceneConfig::floor_height_m must be finite");
-  requirePositive(floor_half_size_m, "SceneConfig::floor_half_size_m");
-  requirePositive(support_half_width_m, "SceneConfig::support_half_width_m");
-  validateSurfelOptions(surfels);
 }
 
 SensorScene::Impl::Impl() : device(detail::embreeDevice())
@@ -395,18 +390,6 @@ TriangleMesh supportMesh(const Eigen::Vector3d& top_center_W, double half_width_
   return mesh;
 }
 
-std::vector<TriangleMesh> plantSceneBackground(const Plant& plant, const SceneConfig& config)
-{
-  config.validate();
-  std::vector<TriangleMesh> parts;
-  const Eigen::Vector3d& base = plant.base_position;
-  if (config.floor)
-    parts.push_back(floorMesh(config.floor_height_m, config.floor_half_size_m, base.head<2>()));
-  if (config.support && base.z() > config.floor_height_m)
-    parts.push_back(supportMesh(base, config.support_half_width_m, config.floor_height_m));
-  return parts;
-}
-
 std::size_t SensorScene::addFloor(double height_m, double half_size_m,
                                   const Eigen::Vector2d& center_xy)
 {
@@ -469,25 +452,6 @@ void SensorScene::bounds(Eigen::Vector3f& min, Eigen::Vector3f& max) const
     throw InvalidArgumentError("SensorScene::bounds: the scene is empty");
   min = impl_->min;
   max = impl_->max;
-}
-
-SensorScene::Ptr makePlantScene(const Plant& plant, const SceneConfig& config,
-                                unsigned int threads)
-{
-  config.validate();
-  auto scene = std::make_shared<SensorScene>();
-  if (!plant.mesh.empty())
-    scene->addMesh(plant.mesh, PartLabel::unknown);
-  else if (!plant.scan_points.empty())
-    scene->addSurfels(plant.scan_points, plant.scan_labels, config.surfels);
-  else
-    throw InvalidArgumentError("makePlantScene: plant '" + plant.name +
-                               "' has neither mesh nor scan points");
-  for (const TriangleMesh& part : plantSceneBackground(plant, config))
-    scene->addMesh(part, PartLabel::background);
-  scene->setNumberOfThreads(threads);
-  scene->commit();
-  return scene;
 }
 
 } // namespace plantnbv

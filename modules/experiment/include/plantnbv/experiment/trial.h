@@ -20,7 +20,7 @@
 #include <plantnbv/plant/plant.h>
 #include <plantnbv/sensor/camera_intrinsics.h>
 #include <plantnbv/sensor/noise_model.h>
-#include <plantnbv/sensor/sensor_scene.h>
+#include <plantnbv/experiment/plant_scene.h>
 
 namespace plantnbv {
 
@@ -47,7 +47,7 @@ struct TrialConfig {
   CameraIntrinsics camera = CameraIntrinsics::l515(L515Mode::vga_640x480);
   /// Off by default (the paper's sensor was noise-free); its seed is derived from `seed`.
   NoiseConfig noise;
-  SceneConfig scene; ///< floor and support by default
+  PlantSceneConfig scene; ///< floor and support by default
   OccupancyMap::Config map;
 
   PlannerKind planner = PlannerKind::nbv;
@@ -80,8 +80,7 @@ struct TrialConfig {
   /// view's free space (the camera's frustum out to the map's range, at the map's
   /// resolution; views overlap, so a whole trial's map stays near it) at 32 bytes each
   /// (an OcTree leaf and its share of the inner nodes), plus the depth image's buffers
-  /// and the gain's rays. Measured: 0.21 GB peak for a whole 10-view trial at 3 mm (the
-  /// estimate: 0.25 GB), 0.72 GB at 1.5 mm (2.0 GB). docs/reliability.md.
+  /// and the gain's rays. docs/reliability.md compares it with measured peaks.
   double estimatedMemoryBytes() const;
 
   /// \throws InvalidArgumentError naming the first bad field and its value (NaN and
@@ -132,7 +131,7 @@ struct TrialResult {
 /// trial.run(result);
 /// \endcode
 /// The planner sees only the map, the attention ROI and the candidates; the plant is
-/// used for the sensor's scene and for ground truth (DESIGN.md). Deterministic: the same
+/// used for the sensor's scene and for ground truth (docs/architecture.md). Deterministic: the same
 /// config, plant and seed give the same steps (apart from the timings) on any number of
 /// threads.
 class Trial {

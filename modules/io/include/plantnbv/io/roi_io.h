@@ -20,8 +20,8 @@ namespace io {
 /// `size` (in a box) are rejected. A file over defaultInputLimits().max_file_bytes is
 /// refused before it is read.
 /// \throws IoError if missing or unreadable; FormatError naming the file, the box index
-/// (from 0) and the key, e.g. "rois.yaml: box 2: size must be 3 non-negative numbers,
-/// got [0.1, -0.2, 0.3]", for malformed YAML, a missing key, a vector without exactly 3
+/// (from 0) and the key (io::YamlReader's messages), e.g. "'rois.yaml' boxes[2].size:
+/// expected 3 non-negative numbers, got [0.1, -0.2, 0.3]", for malformed YAML, a missing key, a vector without exactly 3
 /// numbers, a NaN or infinite centre or size, a negative size (min > max), corners that
 /// overflow to infinity, an unknown key, or a file without boxes; FormatError naming the
 /// cap for a file over the size limit.

@@ -42,7 +42,7 @@ enum class VoxelState : std::uint8_t {
 /// hit or miss log-odds and clamped; the tree is pruned and its inner nodes hold the
 /// maximum of their children. Node for node, the tree and its log-odds are identical to
 /// OctoMap's (tested on random and camera-like frames; 0 voxels differ on the benchmark's
-/// plant frames). It is 5-9x faster (docs/performance.md, "Occupancy map") because:
+/// plant frames). It is faster (figures: docs/performance.md, "Occupancy map") because:
 /// - the ray voxels come from a copy of OctoMap's traversal (Amanatides & Woo, the same
 ///   float / double operations, hence the same voxels), on several threads, into a
 ///   bitset of 64^3-voxel blocks instead of two hash sets;

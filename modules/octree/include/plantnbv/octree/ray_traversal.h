@@ -1,14 +1,12 @@
 #pragma once
 /// \file ray_traversal.h
-/// \brief OctoMap's key arithmetic and ray traversal (OcTreeBaseImpl::coordToKeyChecked,
-/// keyToCoord, computeRayKeys), copied operation for operation so that code which must
-/// visit exactly OctoMap's voxels (OccupancyMap::insert, the planner's information gain)
-/// shares one copy.
+/// \brief OctoMap's ray traversal (OcTreeBaseImpl::computeRayKeys), copied operation for
+/// operation so that code which must visit exactly OctoMap's voxels (OccupancyMap::insert,
+/// the planner's information gain) shares one copy. Keys and centres come from the
+/// voxel lattice (plantnbv/common/voxel_lattice.h).
 ///
 /// Exactness needs the including source file to round like OctoMap: compile it with
-/// `-ffp-contract=off` (no fused multiply-add) and without `-ffast-math`. Keys are ints
-/// here (OctoMap's are uint16 and would wrap at the octree's border); key 32768 is the
-/// voxel [0, resolution) on each axis.
+/// `-ffp-contract=off` (no fused multiply-add) and without `-ffast-math`.
 
 #include <algorithm>
 #include <cmath>
@@ -17,45 +15,10 @@
 #include <limits>
 #include <type_traits>
 
-#ifdef __FAST_MATH__
-#error "plantnbv/octree/ray_traversal.h must not be compiled with -ffast-math"
-#endif
+#include <plantnbv/common/voxel_lattice.h>
 
 namespace plantnbv {
 namespace ray_traversal {
-
-/// OctoMap's tree_max_val (tree depth 16).
-constexpr int kTreeMaxVal = 32768;
-/// OctoMap's tree depth.
-constexpr int kTreeDepth = 16;
-
-/// \brief OctoMap's coordToKeyChecked(double): key floor(coordinate / resolution) + 32768
-/// if it lies in [0, 65536). Range-checked before the int conversion, which OctoMap does
-/// unchecked (undefined for huge values).
-/// \param[in] resolution_factor 1 / resolution, computed as OctoMap does.
-/// \return false (key unchanged) outside the octree or for a non-finite coordinate.
-inline bool coordToKeyChecked(double resolution_factor, double coordinate, int& key)
-{
-  const double f = std::floor(resolution_factor * coordinate);
-  if (!(f >= -kTreeMaxVal && f < kTreeMaxVal))
-    return false;
-  key = static_cast<int>(f) + kTreeMaxVal;
-  return true;
-}
-
-/// \brief coordToKeyChecked for a point3d (single precision, as OctoMap's points are).
-inline bool coordToKeyChecked(double resolution_factor, const float p[3], int key[3])
-{
-  return coordToKeyChecked(resolution_factor, p[0], key[0]) &&
-         coordToKeyChecked(resolution_factor, p[1], key[1]) &&
-         coordToKeyChecked(resolution_factor, p[2], key[2]);
-}
-
-/// \brief OctoMap's keyToCoord(key): the voxel centre (double).
-inline double keyToCoord(double resolution, int key)
-{
-  return (static_cast<double>(key - kTreeMaxVal) + 0.5) * resolution;
-}
 
 namespace detail {
 /// Calls a visitor method; a void method means "go on".
@@ -84,8 +47,9 @@ struct RaySetup {
 /// \brief computeRayKeys' initialization. \return false when origin and end share a
 /// voxel (OctoMap then returns no voxel at all).
 inline bool setupRay(const float origin[3], const float end[3], const int key_origin[3],
-                     const int key_end[3], double resolution, RaySetup& s)
+                     const int key_end[3], const VoxelLattice& lattice, RaySetup& s)
 {
+  const double resolution = lattice.resolution();
   if (key_origin[0] == key_end[0] && key_origin[1] == key_end[1] &&
       key_origin[2] == key_end[2])
     return false; // same voxel
@@ -109,7 +73,7 @@ inline bool setupRay(const float origin[3], const float end[3], const int key_or
       s.step[i] = 0;
     if (s.step[i] != 0) {
       // The voxel's border in the ray's direction.
-      double voxel_border = keyToCoord(resolution, key_origin[i]);
+      double voxel_border = lattice.keyToCoord(key_origin[i]);
       voxel_border += static_cast<float>(s.step[i] * resolution * 0.5);
       s.t_max[i] = (voxel_border - origin[i]) / direction[i];
       s.t_delta[i] = resolution / std::fabs(direction[i]);
@@ -194,21 +158,21 @@ inline long long advanceWhileBelow(double& t, double delta, double target)
 /// the origin along the ray, OctoMap's tMax before the step). Either may return bool:
 /// false stops the traversal (void: go on).
 /// \param[in] origin, end the segment in single precision (OctoMap's point3d).
-/// \param[in] key_origin, key_end their keys (coordToKeyChecked).
-/// \param[in] resolution the octree's resolution (metres).
+/// \param[in] key_origin, key_end their keys (VoxelLattice::coordToKey).
+/// \param[in] lattice the octree's lattice.
 template <typename Visitor>
 void traverseRay(const float origin[3], const float end[3], const int key_origin[3],
-                 const int key_end[3], double resolution, Visitor& visitor)
+                 const int key_end[3], const VoxelLattice& lattice, Visitor& visitor)
 {
   RaySetup s;
-  if (!setupRay(origin, end, key_origin, key_end, resolution, s))
+  if (!setupRay(origin, end, key_origin, key_end, lattice, s))
     return;
   if (!detail::proceed(
           [&] { return visitor.begin(key_origin[0], key_origin[1], key_origin[2], s.step); }))
     return;
 
-  // The loop in scalars, not arrays indexed by the axis: 3.7 instead of 13 ns a step
-  // (the compiler keeps them in registers). Same operations in the same order.
+  // The loop in scalars, not arrays indexed by the axis, which the compiler keeps in
+  // registers (several times faster per step). Same operations in the same order.
   double tx = s.t_max[0], ty = s.t_max[1], tz = s.t_max[2];
   const double dx = s.t_delta[0], dy = s.t_delta[1], dz = s.t_delta[2];
   const int sx = s.step[0], sy = s.step[1], sz = s.step[2];

@@ -23,10 +23,9 @@ double occupancyEntropy(double p);
 /// \brief How candidate views are ray-traced (paper section 2.2, Stage III; Table 1).
 struct GainConfig {
   /// Ray grid across the frustum: rays_x columns x rays_y rows, each in [1, 4096].
-  /// Default 48 x 36, from the study in docs/planning.md ("Ray count"): from 32 x 24 to
-  /// 64 x 48 the chosen views lose 1-2 % of gain against a 256 x 192 grid's choice,
-  /// 16 x 12 loses 12 % on leaf-node ROIs, finer grids save at most 1.5 points for 3-7x
-  /// the time; 48 x 36 keeps about 10 rays on a paper-sized leaf-node box 0.4 m away.
+  /// Default 48 x 36, chosen by the study in docs/planning.md ("Ray count"): coarser
+  /// grids miss small leaf-node boxes, finer ones cost time for little gain; 48 x 36
+  /// keeps about 10 rays on a paper-sized leaf-node box 0.4 m away.
   int rays_x = 48;
   int rays_y = 36; ///< see rays_x
   /// Field of view (rad), each in (0, pi). Defaults: the L515's as the sensor models it
@@ -80,8 +79,7 @@ struct ViewGain {
 /// a ray stops once past its last box, and bricks that hold neither ROI nor occupied
 /// voxels are jumped over exactly (ray_traversal::advanceWhileBelow); each candidate
 /// dedupes its voxels in a per-thread bitset. docs/planning.md gives the details,
-/// docs/performance.md ("Planning") the timings: 85-130x the reference's speed for the
-/// whole-plant ROI and about 4000x for leaf nodes (27 candidates, 2 threads).
+/// docs/performance.md ("Planning") the timings against the reference.
 ///
 /// The snapshot is rebuilt by update(), and by compute() whenever the map's revision()
 /// changed, the map or ROI was replaced, or visibility_weighted changed; its cost is in

@@ -13,22 +13,10 @@
 #include <Eigen/Core>
 
 #include <plantnbv/common/box.h>
+#include <plantnbv/common/roi_kind.h>
 #include <plantnbv/plant/plant.h>
 
 namespace plantnbv {
-
-/// \brief The attention levels of the paper, plus fruit.
-enum class PlantRoiKind {
-  whole_plant, ///< 0.3 x 0.3 x 0.7 m around the stem
-  main_stem,   ///< 0.05 x 0.05 x 0.7 m around the stem
-  leaf_nodes,  ///< 0.03 x 0.03 x 0.05 m at three leaf nodes (low, middle, high)
-  fruits,      ///< one box per truss holding its fruits
-};
-
-/// \brief "whole_plant", "main_stem", "leaf_nodes" or "fruits".
-const char* plantRoiKindName(PlantRoiKind kind);
-/// \brief The kind named `name`. \throws InvalidArgumentError for other names.
-PlantRoiKind plantRoiKindFromName(const std::string& name);
 
 /// \brief The box centred on the stem axis `center_height_m` above the base (at exactly
 /// that height; x and y of the stem axis there).
@@ -70,7 +58,8 @@ Roi fruitRoi(const Plant& plant, double margin_m = 0.0);
 /// may not fit. \throws InvalidArgumentError for an empty mesh.
 Roi boundingBoxRoi(const Plant& plant);
 
-/// \brief The ROI of `kind` with the defaults above.
-Roi plantRoi(const Plant& plant, PlantRoiKind kind);
+/// \brief The ROI of `kind` with the defaults above (fruit: fruitRoi, empty without
+/// fruit).
+Roi plantRoi(const Plant& plant, RoiKind kind);
 
 } // namespace plantnbv

@@ -28,8 +28,7 @@ namespace plantnbv {
 /// Determinism: the mesh depends only on the Config. Draws come from `Rng` (one stream
 /// per plant, leaf and truss, so removing leaflets or trusses shifts no other draw) and
 /// trigonometry from portable_math.h, so the mesh is bit-identical across machines,
-/// compilers, optimisation levels and thread counts. Generation is single-threaded
-/// (about 25 ms for a plant of 240k triangles).
+/// compilers, optimisation levels and thread counts. Generation is single-threaded.
 ///
 /// Mesh: about 160k (youngest default plant) to 245k (oldest) triangles at mesh_detail 1;
 /// one named part per organ ("stem", "leaf_03_petiole", "leaf_03_leaflet_2",

@@ -1,7 +1,9 @@
 #pragma once
 /// \file sensor_scene.h
 /// \brief What the simulated depth sensor sees: triangle meshes and surfel clouds with
-/// part labels, in the world frame, with one Embree 3 BVH over all of them.
+/// part labels, in the world frame, with one Embree 3 BVH over all of them. The sensor
+/// knows no plants: a plant's scene (the plant on its support over a floor) is built one
+/// floor up, in experiment/plant_scene.h.
 
 #include <cstddef>
 #include <memory>
@@ -14,8 +16,6 @@
 #include <plantnbv/common/triangle_mesh.h>
 
 namespace plantnbv {
-
-struct Plant;
 
 /// \brief How a point cloud becomes surfels (discs).
 struct SurfelOptions {
@@ -32,6 +32,9 @@ struct SurfelOptions {
   int spacing_neighbours = 6;
   /// Scale of the derived radius, > 0; default 1.
   double radius_factor = 1.0;
+
+  /// \throws InvalidArgumentError naming the first bad field and its value.
+  void validate() const;
 };
 
 /// \brief The radius of each surfel as SurfelOptions defines it (metres).
@@ -39,31 +42,6 @@ struct SurfelOptions {
 /// radius with fewer than spacing_neighbours + 1 points.
 std::vector<float> surfelRadii(const std::vector<Eigen::Vector3f>& points,
                                const SurfelOptions& options = {});
-
-/// \brief The surroundings of a plant in the default scene, as the paper's Gazebo world
-/// had them: a floor and the support the plant stands on, both labelled `background`.
-///
-/// Background surfaces matter for the map: a ray that hits the floor beyond the map's
-/// maximum range gives a point beyond that range, which OctoMap's insertPointCloud
-/// (maxrange) turns into free space up to the maximum range; without a floor the ray
-/// would give no point and carve nothing. Set floor and support to false for a plant in
-/// empty space.
-struct SceneConfig {
-  /// A horizontal square at z = floor_height_m centred under the plant. Default true.
-  bool floor = true;
-  double floor_height_m = 0.0;    ///< metres; default 0 (the paper's floor)
-  double floor_half_size_m = 5.0; ///< half the side of the square (metres), > 0
-  /// A box under the plant from the floor up to the plant's base (its top face at the
-  /// base height, centred on the base), like a table or pedestal; left out when the
-  /// base is not above the floor. Default true.
-  bool support = true;
-  double support_half_width_m = 0.15; ///< half its side in x and y (metres), > 0
-  /// How the points of a scanned plant (Plant::scan_points) become surfels.
-  SurfelOptions surfels;
-
-  /// \throws InvalidArgumentError naming the first bad field and its value.
-  void validate() const;
-};
 
 /// \brief Geometry in the world frame and its BVH (Embree 3, medium build quality).
 ///
@@ -125,8 +103,8 @@ public:
   std::size_t addSupport(const Eigen::Vector3d& top_center_W, double half_width_m,
                          double bottom_height_m);
 
-  /// \brief Builds (or rebuilds) the BVH. Cost about linear in the primitives: ~45 ms
-  /// for 300k triangles on 2 cores. \throws Error if Embree reports an error.
+  /// \brief Builds (or rebuilds) the BVH, in time about linear in the primitives
+  /// (docs/performance.md, "Sensor"). \throws Error if Embree reports an error.
   void commit();
   /// \brief True after commit() until geometry is added again.
   bool isCommitted() const;
@@ -162,18 +140,5 @@ TriangleMesh floorMesh(double height_m, double half_size_m,
 /// top is above the bottom.
 TriangleMesh supportMesh(const Eigen::Vector3d& top_center_W, double half_width_m,
                          double bottom_height_m);
-/// \brief The background makePlantScene puts around `plant`: the floor and the support
-/// of `config` (either may be left out), in that order.
-/// \throws InvalidArgumentError for an invalid config.
-std::vector<TriangleMesh> plantSceneBackground(const Plant& plant,
-                                               const SceneConfig& config = {});
-
-/// \brief The scene of a plant as the paper's experiments had it: the plant (its mesh,
-/// or its scan points as surfels when it has no mesh) where it is posed, plus the floor
-/// and the support of `config` (centred under Plant::base_position). Committed.
-/// \throws InvalidArgumentError for an invalid config or a plant with neither mesh nor
-/// scan points; FormatError for a malformed mesh.
-SensorScene::Ptr makePlantScene(const Plant& plant, const SceneConfig& config = {},
-                                unsigned int threads = 0);
 
 } // namespace plantnbv

@@ -232,9 +232,9 @@ public:
   /// \throws InvalidArgumentError for an automatic camera on an empty scene.
   CameraPose camera() const;
 
-  /// \brief Renders the scene offscreen into an image of the configured size (about
-  /// 0.2-0.4 s for a 240k-triangle plant at 1200 x 900 with Mesa's software renderer;
-  /// about twice as long with the plant translucent).
+  /// \brief Renders the scene offscreen into an image of the configured size (with
+  /// Mesa's software renderer a few hundred milliseconds for a plant, about twice as long
+  /// with the plant translucent).
   /// \throws InvalidArgumentError when the scene is empty or the explicit camera is
   /// degenerate (position on the focal point, view up along the view axis, non-finite);
   /// Error when there is no X display (display.h gives the message).

@@ -16,6 +16,7 @@
 #include <pcl/filters/voxel_grid.h>
 
 #include <plantnbv/common/error.h>
+#include <plantnbv/common/voxel_lattice.h>
 #include <plantnbv/filters/voxel_grid_filter.h>
 
 namespace plantnbv {
@@ -157,12 +158,13 @@ void VoxelGridFilter<PointT>::applyOwnGrid(const pcl::Indices& indices,
                                            PointCloud& output) const
 {
   using Ijk = std::array<std::int64_t, 3>;
-  // OctoMap's coordToKey: floor(resolution_factor * coordinate), all in double.
-  const double inv = 1.0 / leaf_;
+  // The voxel lattice of OctoMap's keys (unbounded indices: the cloud may reach beyond
+  // the octree).
+  const VoxelLattice lattice(leaf_);
   // Beyond 2^62 the index (and the voxel centre) no longer means anything.
   constexpr double index_limit = 4.611686018427387904e18;
   const auto voxelIndex = [&](float c) {
-    const double i = std::floor(inv * static_cast<double>(c));
+    const double i = lattice.indexOf(static_cast<double>(c));
     if (!(std::abs(i) < index_limit)) {
       std::ostringstream s;
       s << "VoxelGridFilter: coordinate " << c << " at leaf size " << leaf_
@@ -255,9 +257,9 @@ void VoxelGridFilter<PointT>::applyOwnGrid(const pcl::Indices& indices,
     out = input[indices[entries[begin].pos]]; // other fields: the first point's
     if (centres_) {
       const Ijk v = voxelOf(entries[begin]);
-      out.x = static_cast<float>((static_cast<double>(v[0]) + 0.5) * leaf_);
-      out.y = static_cast<float>((static_cast<double>(v[1]) + 0.5) * leaf_);
-      out.z = static_cast<float>((static_cast<double>(v[2]) + 0.5) * leaf_);
+      out.x = static_cast<float>(lattice.indexToCoord(v[0]));
+      out.y = static_cast<float>(lattice.indexToCoord(v[1]));
+      out.z = static_cast<float>(lattice.indexToCoord(v[2]));
     } else {
       double sx = 0.0, sy = 0.0, sz = 0.0;
       for (std::size_t k = begin; k < end; ++k) {

@@ -6,7 +6,7 @@
 /// musl, Apple, MSVC), which is enough to break the promise that a plant seed gives a
 /// bit-identical mesh everywhere. These functions use only IEEE-754 +, -, * and floor,
 /// whose results the standard fixes, so they give the same bits wherever the compiler
-/// does not fuse multiply-adds (module plant is built with -ffp-contract=off).
+/// does not fuse multiply-adds (src/portable_math.cpp is built with -ffp-contract=off).
 
 namespace plantnbv {
 

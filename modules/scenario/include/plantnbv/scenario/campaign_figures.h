@@ -9,7 +9,7 @@
 #include <plantnbv/experiment/campaign_report.h>
 
 namespace plantnbv {
-namespace app {
+namespace scenario {
 
 /// Writes into `out_dir`, for the main study (the one with baselines, named "main", or
 /// else the first): f1_<study>.png and chamfer_<study>.png, one panel per level, one
@@ -21,5 +21,5 @@ std::vector<std::filesystem::path>
 writeCampaignFigures(const std::vector<CurveRow>& rows,
                      const std::filesystem::path& out_dir);
 
-} // namespace app
+} // namespace scenario
 } // namespace plantnbv

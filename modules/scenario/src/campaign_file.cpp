@@ -1,102 +1,31 @@
-#include "campaign_file.h"
+#include <plantnbv/scenario/campaign_file.h>
 
 #include <algorithm>
-#include <fstream>
-#include <functional>
 #include <iomanip>
 #include <map>
-#include <memory>
 #include <sstream>
 
-#include <yaml-cpp/yaml.h>
-
 #include <plantnbv/common/error.h>
-
-#include "plant_source.h"
-#include "trial_config.h"
-#include "trial_setup.h"
+#include <plantnbv/io/yaml_reader.h>
+#include <plantnbv/scenario/placed_plant.h>
+#include <plantnbv/scenario/trial_config_file.h>
+#include <plantnbv/scenario/trial_setup.h>
 
 namespace plantnbv {
-namespace app {
+namespace scenario {
 
 namespace {
 
 namespace fs = std::filesystem;
+using io::YamlReader;
 
-/// Key paths for messages: "'quick.yaml' studies[1].planners[0].attention: ...".
-class Reader {
-public:
-  explicit Reader(const std::string& file) : file_(file) {}
-
-  [[noreturn]] void fail(const std::string& key_path, const std::string& message) const
-  {
-    throw FormatError("'" + file_ + "' " + key_path + ": " + message);
-  }
-
-  template <typename T>
-  T read(const YAML::Node& node, const std::string& key_path, const char* expected) const
-  {
-    if (!node.IsScalar())
-      fail(key_path, std::string("expected ") + expected);
-    try {
-      return node.as<T>();
-    } catch (const YAML::Exception&) {
-      fail(key_path, "'" + node.Scalar() + "' is not " + expected);
-    }
-  }
-
-  template <typename T>
-  std::vector<T> readList(const YAML::Node& node, const std::string& key_path,
-                          const char* expected) const
-  {
-    if (!node.IsSequence())
-      fail(key_path, std::string("expected a list of ") + expected);
-    std::vector<T> out;
-    for (std::size_t i = 0; i < node.size(); ++i)
-      out.push_back(read<T>(node[i], key_path + "[" + std::to_string(i) + "]", expected));
-    return out;
-  }
-
-  /// Calls handlers[key] for each key of the map; any other key is an error.
-  void forEach(const YAML::Node& map, const std::string& key_path,
-               const std::map<std::string,
-                              std::function<void(const YAML::Node&, const std::string&)>>&
-                   handlers) const
-  {
-    if (!map.IsMap())
-      fail(key_path.empty() ? "(top level)" : key_path, "expected a map of keys");
-    for (const auto& item : map) {
-      // A key may be a list or a map in YAML ("? [a]: 1"); ours are names (found by
-      // fuzzing: as<std::string>() threw a YAML exception).
-      if (!item.first.IsScalar())
-        fail(key_path.empty() ? "(top level)" : key_path,
-             "a key must be a name, not a list or a map");
-      const std::string key = item.first.Scalar();
-      const std::string path = key_path.empty() ? key : key_path + "." + key;
-      const auto handler = handlers.find(key);
-      if (handler == handlers.end()) {
-        std::string known;
-        for (const auto& h : handlers)
-          known += (known.empty() ? "" : ", ") + h.first;
-        fail(path, "unknown key (expected one of " + known + ")");
-      }
-      handler->second(item.second, path);
-    }
-  }
-
-private:
-  std::string file_;
-};
-
-using Handler = std::function<void(const YAML::Node&, const std::string&)>;
-
-void readPlants(const Reader& r, const YAML::Node& node, const std::string& path,
+void readPlants(const YamlReader& r, const YAML::Node& node, const std::string& path,
                 std::vector<CampaignPlant>& plants)
 {
   if (!node.IsSequence())
     r.fail(path, "expected a list of plants ({seed: S} or {model: FILE})");
   for (std::size_t i = 0; i < node.size(); ++i) {
-    const std::string p = path + "[" + std::to_string(i) + "]";
+    const std::string p = YamlReader::index(path, i);
     CampaignPlant plant;
     std::vector<std::uint64_t> seeds;
     bool named = false;
@@ -131,7 +60,7 @@ void readPlants(const Reader& r, const YAML::Node& node, const std::string& path
                 }},
                {"rois",
                 [&](const YAML::Node& n, const std::string& k) {
-                  plant.rois = r.read<std::string>(n, k, "a ROI file name");
+                  plant.rois = r.read<std::string>(n, k, "an ROI file name");
                 }},
                {"name", [&](const YAML::Node& n, const std::string& k) {
                   plant.name = r.read<std::string>(n, k, "a name");
@@ -142,6 +71,8 @@ void readPlants(const Reader& r, const YAML::Node& node, const std::string& path
     if (!plant.model.empty()) {
       if (plant.simplified)
         r.fail(p + ".simplified", "only a generated plant can be simplified");
+      if (plant.stage)
+        r.fail(p + ".stage", "only a generated plant has a growth stage");
       if (!named)
         plant.name = fs::path(plant.model).stem().string();
       plants.push_back(plant);
@@ -164,18 +95,22 @@ void readPlants(const Reader& r, const YAML::Node& node, const std::string& path
   }
 }
 
-CampaignPlanner readPlanner(const Reader& r, const YAML::Node& node, const std::string& p)
+CampaignPlanner readPlanner(const YamlReader& r, const YAML::Node& node,
+                            const std::string& p)
 {
   CampaignPlanner planner;
   std::string type;
   bool has_attention = false, has_patterns = false;
+  Attention attention;
   r.forEach(node, p,
             {{"type",
               [&](const YAML::Node& n, const std::string& k) {
                 type = r.read<std::string>(n, k, "nbv, predefined or random");
-                if (type != "nbv" && type != "predefined" && type != "random")
-                  r.fail(k, "unknown planner '" + type +
-                                "' (expected nbv, predefined or random)");
+                try {
+                  planner.kind = plannerKindFromName(type);
+                } catch (const InvalidArgumentError& e) {
+                  r.fail(k, e.what());
+                }
               }},
              {"name",
               [&](const YAML::Node& n, const std::string& k) {
@@ -183,32 +118,32 @@ CampaignPlanner readPlanner(const Reader& r, const YAML::Node& node, const std::
               }},
              {"attention",
               [&](const YAML::Node& n, const std::string& k) {
-                planner.attention = r.read<std::string>(n, k, "a ROI name");
-                if (!isAttentionName(planner.attention))
-                  r.fail(k,
-                         "unknown ROI '" + planner.attention +
-                             "' (expected whole-plant, main-stem, leaf-nodes, fruit or "
-                             "a ROI file)");
+                // Kept as written: trial files record it so.
+                planner.attention = r.read<std::string>(n, k, "an ROI name or file");
+                try {
+                  attention = Attention::parse(planner.attention);
+                } catch (const InvalidArgumentError& e) {
+                  r.fail(k, e.what());
+                }
                 has_attention = true;
               }},
              {"patterns", [&](const YAML::Node& n, const std::string& k) {
                 planner.patterns = r.readList<int>(n, k, "patterns 1-4");
                 for (std::size_t i = 0; i < planner.patterns.size(); ++i)
                   if (planner.patterns[i] < 1 || planner.patterns[i] > 4)
-                    r.fail(k + "[" + std::to_string(i) + "]",
+                    r.fail(YamlReader::index(k, i),
                            std::to_string(planner.patterns[i]) + " is not a pattern 1-4");
                 has_patterns = true;
               }}});
   if (type.empty())
     r.fail(p + ".type", "missing (nbv, predefined or random)");
-  planner.kind = plannerKindFromName(type);
   if (planner.kind == PlannerKind::nbv) {
     if (!has_attention)
       r.fail(p + ".attention", "missing: an NBV planner needs an attention ROI");
     if (has_patterns)
       r.fail(p + ".patterns", "only a predefined planner has patterns");
-    if (planner.name.empty()) // nbv-leaf-nodes; a ROI file: nbv-<its stem>
-      planner.name = "nbv-" + fs::path(planner.attention).stem().string();
+    if (planner.name.empty())
+      planner.name = nbvPlannerName(attention);
   } else {
     if (has_attention)
       r.fail(p + ".attention", "only an NBV planner has an attention ROI");
@@ -222,7 +157,7 @@ CampaignPlanner readPlanner(const Reader& r, const YAML::Node& node, const std::
   return planner;
 }
 
-CampaignStudy readStudy(const Reader& r, const YAML::Node& node, const std::string& p)
+CampaignStudy readStudy(const YamlReader& r, const YAML::Node& node, const std::string& p)
 {
   CampaignStudy study;
   r.forEach(node, p,
@@ -235,8 +170,7 @@ CampaignStudy readStudy(const Reader& r, const YAML::Node& node, const std::stri
                 if (!n.IsSequence())
                   r.fail(k, "expected a list of planners");
                 for (std::size_t i = 0; i < n.size(); ++i)
-                  study.planners.push_back(
-                      readPlanner(r, n[i], k + "[" + std::to_string(i) + "]"));
+                  study.planners.push_back(readPlanner(r, n[i], YamlReader::index(k, i)));
               }},
              {"simplified",
               [&](const YAML::Node& n, const std::string& k) {
@@ -255,7 +189,7 @@ CampaignStudy readStudy(const Reader& r, const YAML::Node& node, const std::stri
 }
 
 /// Keys of `trial:` that the campaign sets per trial.
-void rejectCampaignKeys(const Reader& r, const YAML::Node& trial)
+void rejectCampaignKeys(const YamlReader& r, const YAML::Node& trial)
 {
   if (!trial.IsMap())
     return; // readTrialConfig names it
@@ -275,6 +209,14 @@ void rejectCampaignKeys(const Reader& r, const YAML::Node& trial)
            "set by the campaign: use candidates (or a study's candidates)");
 }
 
+/// A path of the campaign file, relative to the file's directory.
+std::string resolve(const CampaignFile& f, const std::string& path)
+{
+  if (path.empty() || fs::path(path).is_absolute())
+    return path;
+  return (f.base_dir / path).string();
+}
+
 } // namespace
 
 TrialConfig campaignTrialConfig(const CampaignFile& f, const TrialSpec& t)
@@ -284,38 +226,26 @@ TrialConfig campaignTrialConfig(const CampaignFile& f, const TrialSpec& t)
   if (t.kind == PlannerKind::predefined)
     c.pattern = t.pattern;
   c.views = t.views;
-  c.samples_per_cell = t.candidates / (c.grid_rows * c.grid_cols);
+  setCandidateCount(t.candidates, "candidates", c);
   c.map.resolution_m = t.resolution_m;
   c.seed = t.seed;
   c.threads = 1; // one trial per worker: no nested parallelism
   return c;
 }
 
-CampaignFile loadCampaignFile(const std::string& path,
-                              const std::string& name_for_messages)
+CampaignFile loadCampaignFile(const std::string& path)
 {
-  std::ifstream in(path);
-  if (!in)
-    throw IoError("cannot read campaign file '" + path + "'");
-  std::stringstream text;
-  text << in.rdbuf();
-  return parseCampaignFile(text.str(), path, name_for_messages);
+  return parseCampaignFile(YamlReader::readText(path), path);
 }
 
-CampaignFile parseCampaignFile(const std::string& text, const std::string& path,
-                               const std::string& name_for_messages)
+CampaignFile parseCampaignFile(const std::string& text, const std::string& path)
 {
   CampaignFile f;
   f.path = path;
   f.text = text;
   f.base_dir = fs::path(path).parent_path();
-  const Reader r(name_for_messages);
-  YAML::Node root;
-  try {
-    root = YAML::Load(f.text);
-  } catch (const YAML::Exception& e) {
-    throw FormatError("'" + name_for_messages + "' is not valid YAML: " + e.what());
-  }
+  const YamlReader r(path);
+  const YAML::Node root = r.parse(f.text);
   CampaignDefinition& d = f.definition;
   d.name = fs::path(path).stem().string();
   bool has_plants = false, has_studies = false;
@@ -357,28 +287,23 @@ CampaignFile parseCampaignFile(const std::string& text, const std::string& path,
               [&](const YAML::Node& n, const std::string& k) {
                 d.levels = r.readList<std::string>(n, k, "level names");
                 for (std::size_t i = 0; i < d.levels.size(); ++i) {
-                  const auto& known = levelSources();
-                  if (d.levels[i] != "model_rois" &&
-                      std::none_of(known.begin(), known.end(), [&](const LevelSource& l) {
-                        return d.levels[i] == l.level;
-                      }))
-                    r.fail(k + "[" + std::to_string(i) + "]",
-                           "unknown level '" + d.levels[i] +
-                               "' (expected whole_plant, main_stem, leaf_nodes, fruit or "
-                               "model_rois)");
+                  try {
+                    d.levels[i] = canonicalLevelName(d.levels[i]);
+                  } catch (const InvalidArgumentError& e) {
+                    r.fail(YamlReader::index(k, i), e.what());
+                  }
                 }
               }},
              {"trial",
-              [&](const YAML::Node& n, const std::string&) {
+              [&](const YAML::Node& n, const std::string& k) {
                 rejectCampaignKeys(r, n);
-                readTrialConfig(n, name_for_messages, "trial.", f.base);
+                readTrialConfig(r, n, k, f.base);
               }},
              {"studies", [&](const YAML::Node& n, const std::string& k) {
                 if (!n.IsSequence())
                   r.fail(k, "expected a list of studies");
                 for (std::size_t i = 0; i < n.size(); ++i)
-                  d.studies.push_back(
-                      readStudy(r, n[i], k + "[" + std::to_string(i) + "]"));
+                  d.studies.push_back(readStudy(r, n[i], YamlReader::index(k, i)));
                 has_studies = true;
               }}});
   if (!has_plants)
@@ -389,64 +314,49 @@ CampaignFile parseCampaignFile(const std::string& text, const std::string& path,
     d.validate();
     f.base.validate();
   } catch (const InvalidArgumentError& e) {
-    throw InvalidArgumentError("'" + name_for_messages + "' " + e.what());
+    throw InvalidArgumentError("'" + path + "' " + e.what());
   }
-  // Candidates: multiples of the sector's grid cells.
-  const int cells = f.base.grid_rows * f.base.grid_cols;
+  // Candidates: the rule of setCandidateCount, checked with the key that set them.
   auto checkCandidates = [&](int n, const std::string& k) {
-    if (n < cells || n % cells != 0)
-      r.fail(k, std::to_string(n) + " is not a multiple of the " + std::to_string(cells) +
-                    " grid cells (9, 27, 45, ...)");
+    TrialConfig c = f.base;
+    try {
+      setCandidateCount(n, k, c);
+    } catch (const InvalidArgumentError& e) {
+      throw FormatError("'" + path + "' " + e.what());
+    }
   };
   checkCandidates(d.candidates, "candidates");
   for (std::size_t s = 0; s < d.studies.size(); ++s)
     for (std::size_t i = 0; i < d.studies[s].candidates.size(); ++i)
-      checkCandidates(d.studies[s].candidates[i], "studies[" + std::to_string(s) +
-                                                      "].candidates[" +
-                                                      std::to_string(i) + "]");
+      checkCandidates(d.studies[s].candidates[i],
+                      YamlReader::index("studies[" + std::to_string(s) + "].candidates", i));
   // Every trial's config is valid (resolutions, views, ...).
   for (const TrialSpec& t : expandCampaign(d)) {
     try {
       campaignTrialConfig(f, t).validate();
     } catch (const InvalidArgumentError& e) {
-      throw InvalidArgumentError("'" + name_for_messages + "' trial " + t.id + ": " +
-                                 e.what());
+      throw InvalidArgumentError("'" + path + "' trial " + t.id + ": " + e.what());
     }
   }
   return f;
 }
 
-namespace {
-
-/// A path of the campaign file, relative to the file's directory.
-std::string resolve(const CampaignFile& f, const std::string& path)
-{
-  if (path.empty() || fs::path(path).is_absolute())
-    return path;
-  return (f.base_dir / path).string();
-}
-
-} // namespace
-
 void runCampaignTrial(const CampaignFile& f, const TrialSpec& t, TrialResult& result)
 {
   const CampaignPlant& plant = f.definition.plants.at(t.plant_index);
-  PlantSourceOptions source;
+  PlantSource source;
   source.seed = plant.seed;
-  source.stage = plant.stage;
-  source.simplified = t.simplified;
+  if (plant.seed) { // a study's simplified variant applies to generated plants
+    source.stage = plant.stage;
+    source.simplified = t.simplified;
+  }
   source.model = resolve(f, plant.model);
   source.labels = plant.labels;
   source.rois = resolve(f, plant.rois);
   source.yaw_deg = t.yaw_deg;
   const PlacedPlant placed = makePlacedPlant(source);
   TrialConfig config = campaignTrialConfig(f, t);
-  if (!plant.model.empty()) { // as reconstruct: the sector follows a model's height
-    Eigen::Vector3f lo, hi;
-    placed.plant.bounds(lo, hi);
-    config.sector.height_m =
-        std::max(0.05, double(hi.z()) - placed.plant.base_position.z());
-  }
+  fitSectorToPlant(placed, std::nullopt, config);
   std::vector<EvaluationLevel> levels = evaluationLevels(placed);
   const std::vector<std::string>& wanted = f.definition.levels;
   if (!wanted.empty())
@@ -459,18 +369,18 @@ void runCampaignTrial(const CampaignFile& f, const TrialSpec& t, TrialResult& re
   if (levels.empty())
     throw InvalidArgumentError("plant '" + plant.name +
                                "' has none of the campaign's levels");
+  // The baselines' gains are reported inside the whole plant, as reconstruct's default.
+  Attention attention;
+  if (t.kind != PlannerKind::nbv)
+    attention.kind = RoiKind::whole_plant;
+  else {
+    attention = Attention::parse(t.attention);
+    attention.file = resolve(f, attention.file);
+  }
   Trial trial(config);
-  trial.setPlant(std::make_shared<Plant>(placed.plant));
-  // The baselines' gains are reported inside the whole plant, as reconstruct does.
-  const std::string attention =
-      t.kind == PlannerKind::nbv
-          ? (fs::path(t.attention).has_extension() ? resolve(f, t.attention)
-                                                   : t.attention)
-          : "whole-plant";
-  trial.setAttentionRoi(attentionRoi(placed, attention));
-  trial.setEvaluationLevels(levels);
+  setUpTrial(placed, attentionRoi(placed, attention), levels, trial);
   trial.run(result);
 }
 
-} // namespace app
+} // namespace scenario
 } // namespace plantnbv

@@ -2,7 +2,7 @@
 
 #include <gtest/gtest.h>
 
-#include <plantnbv/plant/portable_math.h>
+#include <plantnbv/common/portable_math.h>
 
 using plantnbv::portableCos;
 using plantnbv::portableSin;

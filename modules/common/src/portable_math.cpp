@@ -1,7 +1,7 @@
 #include <cmath>
 #include <limits>
 
-#include <plantnbv/plant/portable_math.h>
+#include <plantnbv/common/portable_math.h>
 
 namespace plantnbv {
 

@@ -7,7 +7,7 @@
 #include <plantnbv/common/pcl_fwd.h>
 
 namespace plantnbv {
-namespace app {
+namespace scenario {
 
 struct GeometryInputOptions {
   double resolution = 0.003;   ///< voxel size for meshes, metres
@@ -16,8 +16,8 @@ struct GeometryInputOptions {
 };
 
 /// \brief Reads `path` as points: a cloud as it is with non-finite points dropped, a mesh
-/// sampled (seeded) then voxelized at the resolution (voxel centres, the ground
-/// truth of DESIGN.md), an octree's occupied voxel centres. `what` names the input in
+/// sampled (seeded) then voxelized at the resolution (voxel centres on the map's lattice,
+/// the ground truth of trials), an octree's occupied voxel centres. `what` names the input in
 /// messages ("reference"); `summary` receives a one-line description of what was done.
 /// An octree without occupied voxels gives an empty cloud (an empty reconstruction).
 /// \throws plantnbv::Error subclasses on unreadable files and on a cloud file without
@@ -26,5 +26,5 @@ void loadGeometryAsCloud(const std::string& path, const std::string& what,
                          const GeometryInputOptions& options, CloudXYZ& cloud,
                          std::string& summary);
 
-} // namespace app
+} // namespace scenario
 } // namespace plantnbv

@@ -1,14 +1,16 @@
-#include "campaign_figures.h"
+#include <plantnbv/scenario/campaign_figures.h>
 
 #include <algorithm>
 #include <cmath>
 #include <functional>
 #include <map>
+#include <optional>
 
+#include <plantnbv/common/roi_kind.h>
 #include <plantnbv/viz/line_chart.h>
 
 namespace plantnbv {
-namespace app {
+namespace scenario {
 
 namespace {
 
@@ -24,13 +26,8 @@ void addOnce(std::vector<std::string>& list, const std::string& name)
 
 std::string levelTitle(const std::string& level)
 {
-  if (level == "whole_plant")
-    return "Whole plant";
-  if (level == "main_stem")
-    return "Main stem";
-  if (level == "leaf_nodes")
-    return "Leaf nodes";
-  return level;
+  const std::optional<RoiKind> kind = roiKindFromName(level);
+  return kind ? roiKindTitle(*kind) : level;
 }
 
 struct Metric {
@@ -186,5 +183,5 @@ std::vector<fs::path> writeCampaignFigures(const std::vector<CurveRow>& rows,
   return written;
 }
 
-} // namespace app
+} // namespace scenario
 } // namespace plantnbv

@@ -1,4 +1,4 @@
-#include "geometry_input.h"
+#include <plantnbv/scenario/geometry_input.h>
 
 #include <algorithm>
 #include <cmath>
@@ -19,7 +19,7 @@
 #include <plantnbv/sampling/mesh_sampler.h>
 
 namespace plantnbv {
-namespace app {
+namespace scenario {
 
 void loadGeometryAsCloud(const std::string& path, const std::string& what,
                          const GeometryInputOptions& options, CloudXYZ& cloud,
@@ -71,5 +71,5 @@ void loadGeometryAsCloud(const std::string& path, const std::string& what,
   summary = s.str();
 }
 
-} // namespace app
+} // namespace scenario
 } // namespace plantnbv

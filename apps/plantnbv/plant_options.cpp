@@ -1,0 +1,56 @@
+#include "plant_options.h"
+
+#include <CLI/CLI.hpp>
+
+#include <plantnbv/common/error.h>
+
+namespace plantnbv {
+namespace app {
+
+void addPlantOptions(CLI::App& cmd, PlantOptions& o, const std::string& seed_flag)
+{
+  o.seed_flag = seed_flag;
+  scenario::PlantSource& s = o.source;
+  auto* seed = cmd.add_option(
+      seed_flag, s.seed, "Generate a tomato plant from this seed (0-9: the default set)");
+  auto* model = cmd.add_option("--model", s.model,
+                               "Load a plant instead: a mesh (.dae .obj .ply .stl .wrl) "
+                               "or a scanned cloud (.pcd .ply)");
+  seed->excludes(model);
+  model->excludes(seed);
+  cmd.add_option("--stage", s.stage,
+                 "Growth stage in [0, 1] (default: seed/9 for seeds 0-9, else 0.5)")
+      ->needs(seed);
+  cmd.add_flag("--simplified", s.simplified, "Remove half of the leaflets of every leaf")
+      ->needs(seed);
+  cmd.add_option("--labels", s.labels,
+                 "Part labels from node names, e.g. stem=Branch.*,leaflet=Leaf.*")
+      ->needs(model);
+  cmd.add_option("--rois", s.rois, "ROI file (YAML boxes, world frame) for the model")
+      ->needs(model);
+  auto* keep = cmd.add_flag("--keep-frame", s.keep_frame,
+                            "Keep the model file's coordinates (no --base, --yaw-deg)")
+                   ->needs(model);
+  cmd.add_option("--yaw-deg", s.yaw_deg, "Turn the plant about its stem, degrees")
+      ->capture_default_str()
+      ->excludes(keep);
+  cmd.add_option("--base", o.base, "Plant base position x,y,z in metres (world frame)")
+      ->delimiter(',')
+      ->capture_default_str()
+      ->excludes(keep);
+}
+
+scenario::PlacedPlant placePlant(const PlantOptions& o)
+{
+  if (!o.source.seed && o.source.model.empty())
+    throw InvalidArgumentError("give a plant: " + o.seed_flag +
+                               " S (generated) or --model FILE");
+  if (o.base.size() != 3)
+    throw InvalidArgumentError("--base must be three numbers x,y,z in metres");
+  scenario::PlantSource source = o.source;
+  source.base = Eigen::Vector3d(o.base[0], o.base[1], o.base[2]);
+  return scenario::makePlacedPlant(source);
+}
+
+} // namespace app
+} // namespace plantnbv

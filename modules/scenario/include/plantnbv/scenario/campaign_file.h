@@ -1,0 +1,45 @@
+#pragma once
+/// \file campaign_file.h
+/// \brief A campaign file (YAML, docs/campaigns.md): its definition, the trial config its
+/// trials share, and how one of its trials runs.
+
+#include <filesystem>
+#include <string>
+
+#include <plantnbv/experiment/campaign.h>
+#include <plantnbv/experiment/trial.h>
+
+namespace plantnbv {
+namespace scenario {
+
+/// \brief A campaign file: the definition, the trial config its trials share and the
+/// directory its relative paths (models, ROI files) are relative to.
+struct CampaignFile {
+  std::string path;
+  std::string text; ///< as read (the result store keeps it)
+  CampaignDefinition definition;
+  TrialConfig base; ///< the `trial:` section over the built-in defaults
+  std::filesystem::path base_dir;
+};
+
+/// \brief Reads and checks a campaign file (keys in data/campaigns/paper.yaml and
+/// docs/campaigns.md); every trial's config is validated.
+/// \throws IoError if it cannot be read; FormatError naming the file and the key path for
+/// an unknown key, a wrong type or an impossible value; InvalidArgumentError naming the
+/// trial for a trial config that does not validate.
+CampaignFile loadCampaignFile(const std::string& path);
+
+/// \brief The same from the file's text; `path` names it in messages and is where
+/// relative paths start from. \throws as loadCampaignFile, but no IoError.
+CampaignFile parseCampaignFile(const std::string& text, const std::string& path);
+
+/// \brief The config of trial `t` of `f` (without a model's sector height, which needs
+/// the plant: fitSectorToPlant). One thread: campaigns run one trial per worker.
+TrialConfig campaignTrialConfig(const CampaignFile& f, const TrialSpec& t);
+
+/// \brief Runs trial `t` of `f`: its own plant, scene and map, on one thread.
+/// \throws the errors of the plant's files and of the trial.
+void runCampaignTrial(const CampaignFile& f, const TrialSpec& t, TrialResult& result);
+
+} // namespace scenario
+} // namespace plantnbv

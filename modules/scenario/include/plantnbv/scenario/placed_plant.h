@@ -1,0 +1,58 @@
+#pragma once
+/// \file placed_plant.h
+/// \brief The plant a trial or a tool works on: a generated tomato plant (a seed) or a
+/// model file (mesh or scanned cloud), placed in the world as the paper's scene has it,
+/// with the ROIs it comes with.
+
+#include <cstdint>
+#include <map>
+#include <optional>
+#include <string>
+
+#include <Eigen/Core>
+
+#include <plantnbv/common/box.h>
+#include <plantnbv/common/roi_kind.h>
+#include <plantnbv/plant/plant.h>
+
+namespace plantnbv {
+namespace scenario {
+
+/// \brief Where a plant comes from and where it stands. Set a seed or a model.
+struct PlantSource {
+  std::optional<std::uint64_t> seed; ///< a generated tomato plant (0-9: the default set)
+  std::optional<double> stage;       ///< its growth stage in [0, 1] (default: seed/9)
+  bool simplified = false;           ///< half of the leaflets of every leaf removed
+  std::string model;  ///< or a mesh (.dae .obj .ply .stl .wrl) or scanned cloud (.pcd .ply)
+  std::string labels; ///< part label rules of a mesh, e.g. "stem=Branch.*,leaflet=Leaf.*"
+  std::string rois;   ///< ROI file of a model (world frame): the level "model_rois"
+  bool keep_frame = false; ///< a model: keep the file's coordinates (no base, no yaw)
+  double yaw_deg = 0.0;    ///< turn about the stem (degrees)
+  Eigen::Vector3d base{1.0, 0.0, 0.8}; ///< plant base, world frame (Table 1 of the paper)
+};
+
+/// \brief A plant posed in the world frame with its ROIs.
+struct PlacedPlant {
+  PlantSource source; ///< what it was made from
+  Plant plant;
+  /// The plant's own ROIs, world frame: every kind for a generated plant (fruit only
+  /// when it has fruit); whole_plant (the bounding box) for a model.
+  std::map<RoiKind, Roi> rois;
+  /// The boxes of PlantSource::rois (a model's own ROI file); empty otherwise.
+  Roi model_rois;
+  std::string description; ///< e.g. "seed 3, growth stage 0.333"
+
+  /// \brief The ROI of `kind`, or nullptr when the plant has none.
+  const Roi* roi(RoiKind kind) const;
+};
+
+/// \brief Generates or loads the plant and places it: base at `base`, turned by
+/// `yaw_deg` about its stem (a model: the centre of its bounding box's bottom face is the
+/// base, unless keep_frame).
+/// \throws InvalidArgumentError for a source with neither or both of seed and model,
+/// labels or rois without a model, a non-finite base or yaw; the io and plant errors of
+/// the files and the generator.
+PlacedPlant makePlacedPlant(const PlantSource& source);
+
+} // namespace scenario
+} // namespace plantnbv

@@ -1,0 +1,48 @@
+#pragma once
+/// \file trial_config_file.h
+/// \brief A trial's configuration from YAML (data/paper.yaml is the paper's Table 1).
+
+#include <string>
+
+#include <plantnbv/experiment/trial.h>
+
+namespace YAML {
+class Node;
+}
+
+namespace plantnbv {
+namespace io {
+class YamlReader;
+}
+namespace scenario {
+
+/// \brief Overwrites the fields of `config` that the YAML file at `path` sets, then
+/// validates it. Keys (all optional; metres, degrees where the key says _deg):
+/// \code{.yaml}
+/// camera: l515 | l515-640 | l515-320 | WxH:fx,fy,cx,cy
+/// noise: bool
+/// views: int
+/// planner: nbv | predefined | random        pattern: 1-4
+/// stop_gain_bits: number                    seed: int
+/// time_limit_s: number (0: none)            memory_cap_gib: number (default 8)
+/// initial_view: {position: [x, y, z], orientation: [qx, qy, qz, qw]}
+/// sector: {radius, height, bottom, angle_deg, rows, cols, samples_per_cell}
+/// map: {resolution, prob_hit, prob_miss, clamp_min, clamp_max, occupancy_threshold,
+///       max_range}
+/// gain: {rays_x, rays_y, raycast_range, visibility_weighted}
+/// scene: {floor: bool, support: bool}
+/// \endcode
+/// An empty file changes nothing.
+/// \throws IoError if the file cannot be read; FormatError naming the key path for an
+/// unknown key or a value of the wrong type; InvalidArgumentError for an out-of-range
+/// value.
+void loadTrialConfig(const std::string& path, TrialConfig& config);
+
+/// \brief The keys of loadTrialConfig from a map already parsed (e.g. the `trial:`
+/// section of a campaign file) at key path `path` ("trial"). Does not validate (the
+/// caller does, after its own overrides). \throws FormatError as loadTrialConfig.
+void readTrialConfig(const io::YamlReader& reader, const YAML::Node& node,
+                     const std::string& path, TrialConfig& config);
+
+} // namespace scenario
+} // namespace plantnbv

@@ -1,0 +1,67 @@
+#pragma once
+/// \file trial_setup.h
+/// \brief How a trial is set up from a placed plant, the same for `reconstruct`, the
+/// campaigns and Python: its evaluation levels, the planner's attention ROI, the sector
+/// that follows a loaded model, the candidate count.
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <plantnbv/common/roi_kind.h>
+#include <plantnbv/experiment/reconstruction_evaluator.h>
+#include <plantnbv/experiment/trial.h>
+#include <plantnbv/scenario/placed_plant.h>
+
+namespace plantnbv {
+namespace scenario {
+
+/// \brief The level name of a model's own ROI file (each box scored on its own).
+constexpr const char* kModelRoisLevel = "model_rois";
+
+/// \brief What an NBV planner attends to: a kind of the plant's ROIs, or an ROI file.
+struct Attention {
+  std::optional<RoiKind> kind; ///< set: the plant's ROI of this kind
+  std::string file;            ///< otherwise: an ROI file (YAML boxes, world frame)
+
+  /// \brief A kind by any accepted name (roi_kind.h), or a file (a name with an
+  /// extension). \throws InvalidArgumentError "unknown ROI 'x' (expected ...)" for
+  /// anything else.
+  static Attention parse(const std::string& name);
+  /// \brief The kind's name, or the file.
+  std::string name() const;
+};
+
+/// \brief The planner name campaigns give an NBV planner: "nbv-leaf-nodes" for a kind
+/// (the paper's planner names), "nbv-<file stem>" for an ROI file.
+std::string nbvPlannerName(const Attention& attention);
+
+/// \brief The attention ROI on the placed plant. \throws InvalidArgumentError if the
+/// plant has no ROI of that kind; the io errors of an ROI file.
+Roi attentionRoi(const PlacedPlant& placed, const Attention& attention);
+
+/// \brief The levels the plant has ROIs for, in kRoiKinds order, then model_rois.
+std::vector<EvaluationLevel> evaluationLevels(const PlacedPlant& placed);
+
+/// \brief A canonical level name (a RoiKind's, or model_rois) for any accepted spelling.
+/// \throws InvalidArgumentError for an unknown level.
+std::string canonicalLevelName(const std::string& name);
+
+/// \brief Sets config.samples_per_cell so that the sector gives `candidates` per step.
+/// \throws InvalidArgumentError unless `candidates` is a positive multiple of the
+/// sector's grid cells; `what` names the value in the message ("--candidates").
+void setCandidateCount(int candidates, const std::string& what, TrialConfig& config);
+
+/// \brief The rule for loaded models, which may be taller than the paper's plants (0.7 m
+/// sector for plants of at most 0.7 m): unless `sector_height_m` is given, a model's
+/// sector is as high as the model stands above its base (at least 0.05 m); a generated
+/// plant keeps the config's sector.
+void fitSectorToPlant(const PlacedPlant& placed, std::optional<double> sector_height_m,
+                      TrialConfig& config);
+
+/// \brief Gives `trial` the plant, the attention ROI and the levels.
+void setUpTrial(const PlacedPlant& placed, const Roi& attention,
+                const std::vector<EvaluationLevel>& levels, Trial& trial);
+
+} // namespace scenario
+} // namespace plantnbv

@@ -1,0 +1,134 @@
+#include <plantnbv/scenario/placed_plant.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <sstream>
+
+#include <pcl/point_cloud.h>
+#include <pcl/point_types.h>
+
+#include <plantnbv/common/error.h>
+#include <plantnbv/io/cloud_io.h>
+#include <plantnbv/io/file_kind.h>
+#include <plantnbv/io/mesh_io.h>
+#include <plantnbv/io/roi_io.h>
+#include <plantnbv/plant/plant_model.h>
+#include <plantnbv/plant/plant_rois.h>
+#include <plantnbv/plant/tomato_plant_generator.h>
+
+namespace plantnbv {
+namespace scenario {
+
+const Roi* PlacedPlant::roi(RoiKind kind) const
+{
+  const auto it = rois.find(kind);
+  return it == rois.end() ? nullptr : &it->second;
+}
+
+namespace {
+
+void checkSource(const PlantSource& s)
+{
+  if (s.seed.has_value() == !s.model.empty())
+    throw InvalidArgumentError(s.seed ? "plant source: a seed and a model file; give one"
+                                      : "plant source: give a seed or a model file");
+  if (s.seed && (!s.labels.empty() || !s.rois.empty() || s.keep_frame))
+    throw InvalidArgumentError(
+        "plant source: labels, rois and keep_frame belong to a model file");
+  if (!s.model.empty() && (s.stage || s.simplified))
+    throw InvalidArgumentError(
+        "plant source: stage and simplified belong to a generated plant");
+  if (!s.base.allFinite())
+    throw InvalidArgumentError("plant source: the base must be three finite numbers x,y,z "
+                               "in metres");
+  if (!std::isfinite(s.yaw_deg))
+    throw InvalidArgumentError("plant source: the yaw must be a finite angle in degrees");
+}
+
+PlacedPlant generatedPlant(const PlantSource& s, double yaw_rad)
+{
+  PlacedPlant out;
+  TomatoPlantGenerator::Config config;
+  if (*s.seed < static_cast<std::uint64_t>(kDefaultPlantCount))
+    config = defaultPlantConfig(static_cast<int>(*s.seed), s.simplified);
+  config.seed = *s.seed;
+  config.simplified = s.simplified;
+  if (s.stage)
+    config.growth_stage = *s.stage;
+  out.plant = TomatoPlantGenerator(config).generate(); // validates the stage
+  posePlant(out.plant, s.base, yaw_rad);
+  for (RoiKind kind : kRoiKinds) {
+    Roi roi = plantRoi(out.plant, kind);
+    if (!roi.empty())
+      out.rois.emplace(kind, std::move(roi));
+  }
+  std::ostringstream d;
+  d << "seed " << *s.seed << ", growth stage " << config.growth_stage
+    << (s.simplified ? ", simplified" : "");
+  out.description = d.str();
+  return out;
+}
+
+/// A scan keeps its points; labels come from its label field.
+Plant scannedPlant(const std::string& path, const std::string& name, bool keep_frame)
+{
+  CloudXYZL cloud;
+  io::loadCloud(path, cloud);
+  std::vector<Eigen::Vector3f> points;
+  std::vector<PartLabel> labels;
+  for (const auto& p : cloud)
+    if (std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z)) {
+      points.push_back(p.getVector3fMap());
+      labels.push_back(static_cast<PartLabel>(std::min<std::uint32_t>(p.label, 6)));
+    }
+  return plantFromScan(std::move(points), std::move(labels), name, keep_frame);
+}
+
+PlacedPlant modelPlant(const PlantSource& s, double yaw_rad)
+{
+  PlacedPlant out;
+  const std::string name = std::filesystem::path(s.model).stem().string();
+  switch (io::fileKind(s.model)) {
+  case io::FileKind::mesh: {
+    TriangleMesh mesh = io::loadMesh(s.model);
+    if (!s.labels.empty())
+      applyPartLabelRules(mesh, parsePartLabelRules(s.labels));
+    out.plant = plantFromMesh(std::move(mesh), name, s.keep_frame);
+    break;
+  }
+  case io::FileKind::cloud:
+    if (!s.labels.empty())
+      throw InvalidArgumentError("label rules map mesh node names; the scan '" + s.model +
+                                 "' has none (its labels come from its label field)");
+    out.plant = scannedPlant(s.model, name, s.keep_frame);
+    break;
+  case io::FileKind::octree:
+    throw FormatError("model '" + s.model + "' is an octree; expected a mesh or a cloud");
+  }
+  if (!s.keep_frame)
+    posePlant(out.plant, s.base, yaw_rad);
+  out.rois.emplace(RoiKind::whole_plant, boundingBoxRoi(out.plant));
+  if (!s.rois.empty())
+    out.model_rois = io::loadRoi(s.rois);
+  std::ostringstream d;
+  d << "model " << s.model << (s.labels.empty() ? "" : ", labelled by name")
+    << (s.keep_frame ? ", file frame kept" : "");
+  out.description = d.str();
+  return out;
+}
+
+} // namespace
+
+PlacedPlant makePlacedPlant(const PlantSource& source)
+{
+  checkSource(source);
+  const double yaw_rad = source.yaw_deg * M_PI / 180.0;
+  PlacedPlant placed =
+      source.seed ? generatedPlant(source, yaw_rad) : modelPlant(source, yaw_rad);
+  placed.source = source;
+  return placed;
+}
+
+} // namespace scenario
+} // namespace plantnbv

@@ -1,0 +1,140 @@
+#include <plantnbv/scenario/trial_config_file.h>
+
+#include <cmath>
+#include <vector>
+
+#include <plantnbv/common/error.h>
+#include <plantnbv/io/yaml_reader.h>
+
+namespace plantnbv {
+namespace scenario {
+
+namespace {
+
+using io::YamlReader;
+using Handlers = std::map<std::string, YamlReader::Handler>;
+
+/// A handler that reads the value into `field`.
+template <typename T>
+YamlReader::Handler into(const YamlReader& r, T& field, const char* expected)
+{
+  return [&r, &field, expected](const YAML::Node& n, const std::string& k) {
+    field = r.read<T>(n, k, expected);
+  };
+}
+
+void readInitialView(const YamlReader& r, const YAML::Node& node, const std::string& path,
+                     Viewpoint& view)
+{
+  std::vector<double> p{view.position.x(), view.position.y(), view.position.z()};
+  const Eigen::Quaterniond& q0 = view.orientation;
+  std::vector<double> q{q0.x(), q0.y(), q0.z(), q0.w()};
+  r.forEach(node, path,
+            {{"position", [&](const YAML::Node& n, const std::string& k) {
+                p = r.readNumbers(n, k, 3);
+              }},
+             {"orientation", [&](const YAML::Node& n, const std::string& k) {
+                q = r.readNumbers(n, k, 4);
+              }}});
+  try {
+    view = Pose::fromXyzQuat(p[0], p[1], p[2], q[0], q[1], q[2], q[3]);
+  } catch (const InvalidArgumentError& e) {
+    r.fail(path, e.what());
+  }
+}
+
+} // namespace
+
+void readTrialConfig(const YamlReader& r, const YAML::Node& root, const std::string& path,
+                     TrialConfig& c)
+{
+  if (root.IsNull())
+    return; // an empty map changes nothing
+  const char* number = "a number";
+  const char* integer = "an integer";
+  const char* boolean = "true or false";
+  r.forEach(
+      root, path,
+      {{"camera",
+        [&](const YAML::Node& n, const std::string& k) {
+          const std::string name = r.read<std::string>(n, k, "a camera");
+          try {
+            c.camera = parseCameraIntrinsics(name);
+          } catch (const InvalidArgumentError& e) {
+            r.fail(k, e.what());
+          }
+        }},
+       {"noise", into(r, c.noise.enabled, boolean)},
+       {"views", into(r, c.views, integer)},
+       {"planner",
+        [&](const YAML::Node& n, const std::string& k) {
+          const std::string name = r.read<std::string>(n, k, "a planner");
+          try {
+            c.planner = plannerKindFromName(name);
+          } catch (const InvalidArgumentError& e) {
+            r.fail(k, e.what());
+          }
+        }},
+       {"pattern", into(r, c.pattern, integer)},
+       {"stop_gain_bits", into(r, c.stop_gain_bits, number)},
+       {"seed", into(r, c.seed, "a seed (integer >= 0)")},
+       {"time_limit_s", into(r, c.time_limit_s, number)},
+       {"memory_cap_gib",
+        [&](const YAML::Node& n, const std::string& k) {
+          c.memory_cap_bytes = r.read<double>(n, k, number) * 1024 * 1024 * 1024;
+        }},
+       {"initial_view",
+        [&](const YAML::Node& n, const std::string& k) {
+          readInitialView(r, n, k, c.initial_view);
+        }},
+       {"sector",
+        [&](const YAML::Node& n, const std::string& k) {
+          double angle_deg = c.sector.angle_rad * 180.0 / M_PI;
+          r.forEach(n, k,
+                    {{"radius", into(r, c.sector.radius_m, number)},
+                     {"height", into(r, c.sector.height_m, number)},
+                     {"bottom", into(r, c.sector.bottom_m, number)},
+                     {"angle_deg", into(r, angle_deg, number)},
+                     {"rows", into(r, c.grid_rows, integer)},
+                     {"cols", into(r, c.grid_cols, integer)},
+                     {"samples_per_cell", into(r, c.samples_per_cell, integer)}});
+          c.sector.angle_rad = angle_deg * M_PI / 180.0;
+        }},
+       {"map",
+        [&](const YAML::Node& n, const std::string& k) {
+          OccupancyMap::Config& m = c.map;
+          r.forEach(n, k,
+                    {{"resolution", into(r, m.resolution_m, number)},
+                     {"prob_hit", into(r, m.prob_hit, number)},
+                     {"prob_miss", into(r, m.prob_miss, number)},
+                     {"clamp_min", into(r, m.clamp_min, number)},
+                     {"clamp_max", into(r, m.clamp_max, number)},
+                     {"occupancy_threshold", into(r, m.occupancy_threshold, number)},
+                     {"max_range", into(r, m.max_range_m, number)}});
+        }},
+       {"gain",
+        [&](const YAML::Node& n, const std::string& k) {
+          GainConfig& g = c.gain;
+          r.forEach(n, k,
+                    {{"rays_x", into(r, g.rays_x, integer)},
+                     {"rays_y", into(r, g.rays_y, integer)},
+                     {"raycast_range", into(r, g.raycast_range_m, number)},
+                     {"visibility_weighted", into(r, g.visibility_weighted, boolean)}});
+        }},
+       {"scene", [&](const YAML::Node& n, const std::string& k) {
+          r.forEach(n, k,
+                    {{"floor", into(r, c.scene.floor, boolean)},
+                     {"support", into(r, c.scene.support, boolean)}});
+        }}});
+}
+
+void loadTrialConfig(const std::string& path, TrialConfig& config)
+{
+  const YamlReader reader(path);
+  const YAML::Node root = reader.parse(YamlReader::readText(path));
+  readTrialConfig(reader, root, "", config);
+  config.validate();
+}
+
+} // namespace scenario
+} // namespace plantnbv

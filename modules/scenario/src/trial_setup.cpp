@@ -1,0 +1,106 @@
+#include <plantnbv/scenario/trial_setup.h>
+
+#include <algorithm>
+#include <filesystem>
+
+#include <plantnbv/common/error.h>
+#include <plantnbv/io/roi_io.h>
+
+namespace plantnbv {
+namespace scenario {
+
+Attention Attention::parse(const std::string& name)
+{
+  Attention a;
+  if ((a.kind = roiKindFromName(name)))
+    return a;
+  if (std::filesystem::path(name).has_extension()) {
+    a.file = name;
+    return a;
+  }
+  throw InvalidArgumentError("unknown ROI '" + name + "' (expected " + roiKindNames() +
+                             " or an ROI file, .yaml)");
+}
+
+std::string Attention::name() const
+{
+  return kind ? roiKindName(*kind) : file;
+}
+
+std::string nbvPlannerName(const Attention& attention)
+{
+  if (!attention.kind)
+    return "nbv-" + std::filesystem::path(attention.file).stem().string();
+  std::string name = roiKindName(*attention.kind);
+  std::replace(name.begin(), name.end(), '_', '-');
+  return "nbv-" + name;
+}
+
+Roi attentionRoi(const PlacedPlant& placed, const Attention& attention)
+{
+  if (!attention.kind)
+    return io::loadRoi(attention.file);
+  if (const Roi* roi = placed.roi(*attention.kind))
+    return *roi;
+  throw InvalidArgumentError("attention " + attention.name() + ": the plant has no " +
+                             attention.name() +
+                             " ROI (a loaded model has whole_plant and the boxes of its "
+                             "ROI file; give an ROI file instead)");
+}
+
+std::vector<EvaluationLevel> evaluationLevels(const PlacedPlant& placed)
+{
+  std::vector<EvaluationLevel> levels;
+  for (const auto& [kind, roi] : placed.rois) // std::map: kRoiKinds order
+    levels.push_back({roiKindName(kind), roi, roiKindScoresBoxesApart(kind)});
+  if (!placed.model_rois.empty())
+    levels.push_back({kModelRoisLevel, placed.model_rois, true});
+  return levels;
+}
+
+std::string canonicalLevelName(const std::string& name)
+{
+  if (const auto kind = roiKindFromName(name))
+    return roiKindName(*kind);
+  if (name == kModelRoisLevel)
+    return name;
+  throw InvalidArgumentError("unknown level '" + name + "' (expected " + roiKindNames() +
+                             " or " + kModelRoisLevel + ")");
+}
+
+void setCandidateCount(int candidates, const std::string& what, TrialConfig& config)
+{
+  const int cells = config.grid_rows * config.grid_cols;
+  if (cells <= 0 || candidates < cells || candidates % cells != 0)
+    throw InvalidArgumentError(what + " " + std::to_string(candidates) +
+                               ": expected a multiple of the " + std::to_string(cells) +
+                               " grid cells (" + std::to_string(cells) + ", " +
+                               std::to_string(3 * cells) + ", " +
+                               std::to_string(5 * cells) + ", ...)");
+  config.samples_per_cell = candidates / cells;
+}
+
+void fitSectorToPlant(const PlacedPlant& placed, std::optional<double> sector_height_m,
+                      TrialConfig& config)
+{
+  if (sector_height_m) {
+    config.sector.height_m = *sector_height_m;
+    return;
+  }
+  if (placed.source.model.empty())
+    return;
+  Eigen::Vector3f lo, hi;
+  placed.plant.bounds(lo, hi);
+  config.sector.height_m = std::max(0.05, double(hi.z()) - placed.plant.base_position.z());
+}
+
+void setUpTrial(const PlacedPlant& placed, const Roi& attention,
+                const std::vector<EvaluationLevel>& levels, Trial& trial)
+{
+  trial.setPlant(std::make_shared<Plant>(placed.plant));
+  trial.setAttentionRoi(attention);
+  trial.setEvaluationLevels(levels);
+}
+
+} // namespace scenario
+} // namespace plantnbv

@@ -1,0 +1,82 @@
+#include <gtest/gtest.h>
+
+#include <plantnbv/common/error.h>
+#include <plantnbv/scenario/campaign_file.h>
+
+#include "scenario_test_util.h"
+
+using namespace plantnbv;
+using namespace plantnbv::scenario;
+using plantnbv::test::errorOf;
+
+namespace {
+
+const std::string kHead = "name: t\nplants: [{seed: 0}]\nyaws_deg: [0]\nviews: 2\n";
+
+} // namespace
+
+TEST(CampaignFile, EverySpellingOfAKindIsOnePlanner)
+{
+  const CampaignFile f = parseCampaignFile(
+      kHead + "levels: [whole-plant, fruits, leaf_nodes]\n"
+              "studies:\n  - name: a\n    planners:\n"
+              "      - {type: nbv, attention: leaf-nodes}\n"
+              "  - name: b\n    planners:\n"
+              "      - {type: nbv, attention: leaf_nodes}\n",
+      "dir/t.yaml");
+  const CampaignDefinition& d = f.definition;
+  EXPECT_EQ(d.levels, (std::vector<std::string>{"whole_plant", "fruit", "leaf_nodes"}));
+  ASSERT_EQ(d.studies.size(), 2u);
+  EXPECT_EQ(d.studies[0].planners[0].name, "nbv-leaf-nodes");
+  EXPECT_EQ(d.studies[1].planners[0].name, "nbv-leaf-nodes");
+  // Kept as written: trial files record the attention so.
+  EXPECT_EQ(d.studies[0].planners[0].attention, "leaf-nodes");
+  EXPECT_EQ(f.base_dir, "dir");
+}
+
+TEST(CampaignFile, TrialConfigsComeFromTheSpec)
+{
+  const CampaignFile f = parseCampaignFile(
+      kHead + "candidates: 45\nresolution: 0.005\ntrial: {gain: {rays_x: 32}}\n"
+              "studies:\n  - name: main\n    planners: [{type: predefined, patterns: [3]}]\n",
+      "t.yaml");
+  const std::vector<TrialSpec> specs = expandCampaign(f.definition);
+  ASSERT_EQ(specs.size(), 1u);
+  const TrialConfig c = campaignTrialConfig(f, specs[0]);
+  EXPECT_EQ(c.planner, PlannerKind::predefined);
+  EXPECT_EQ(c.pattern, 3);
+  EXPECT_EQ(c.views, 2);
+  EXPECT_EQ(c.samples_per_cell, 5);
+  EXPECT_EQ(c.map.resolution_m, 0.005);
+  EXPECT_EQ(c.gain.rays_x, 32);
+  EXPECT_EQ(c.seed, specs[0].seed);
+  EXPECT_EQ(c.threads, 1);
+}
+
+TEST(CampaignFile, ErrorsNameTheKeyPath)
+{
+  const std::string studies = "studies:\n  - name: main\n    planners: [{type: random}]\n";
+  EXPECT_EQ(errorOf([&] {
+              parseCampaignFile(kHead + "candidates: 10\n" + studies, "t.yaml");
+            }),
+            "'t.yaml' candidates 10: expected a multiple of the 9 grid cells (9, 27, 45, "
+            "...)");
+  EXPECT_EQ(errorOf([&] {
+              parseCampaignFile(kHead + "levels: [leaves]\n" + studies, "t.yaml");
+            }),
+            "'t.yaml' levels[0]: unknown level 'leaves' (expected whole_plant, main_stem, "
+            "leaf_nodes, fruit or model_rois)");
+  EXPECT_EQ(errorOf([&] {
+              parseCampaignFile(
+                  "name: t\nplants: [{model: m.dae, stage: 0.5}]\n" + studies, "t.yaml");
+            }),
+            "'t.yaml' plants[0].stage: only a generated plant has a growth stage");
+  EXPECT_EQ(errorOf([&] {
+              parseCampaignFile(kHead + "studies:\n  - name: main\n    planners: "
+                                        "[{type: nbv, attention: stems}]\n",
+                                "t.yaml");
+            }),
+            "'t.yaml' studies[0].planners[0].attention: unknown ROI 'stems' (expected "
+            "whole_plant, main_stem, leaf_nodes, fruit or an ROI file, .yaml)");
+  EXPECT_THROW(loadCampaignFile("/nonexistent/campaign.yaml"), IoError);
+}
