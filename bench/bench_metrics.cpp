@@ -1,7 +1,8 @@
 /// \file bench_metrics.cpp
 /// \brief Chamfer distance and precision / recall / F1 of two clouds, ours side by side
 /// with what users would write instead: a PCL KdTreeFLANN loop, Open3D's
-/// PointCloud::ComputePointCloudDistance and plain nanoflann.
+/// PointCloud::ComputePointCloudDistance and plain nanoflann. And the same tree behind
+/// pcl::search (search::MortonKdTree) against pcl::search::KdTree: rows search/...
 ///
 /// Data: surface samples of a plant-like mesh (the reference T) and a copy with 1 mm
 /// Gaussian noise per coordinate (the reconstruction R), 50k and 300k points each.
@@ -9,6 +10,12 @@
 /// both nearest-neighbour directions and the sums. Open3D's clouds are converted to its
 /// format beforehand (untimed). After timing, each method's per-point distances are
 /// checked against ours: counter max_diff_m is the largest difference in metres.
+///
+/// The search/ rows time what a PCL user does with a pcl::search::Search<PointXYZ>:
+/// setInputCloud(T), then nearestKSearch(p, 1, ...) for every point p of R in cloud order
+/// (the samples' order, spatially random), in an OpenMP loop. Counter build_ms is the
+/// setInputCloud part; max_diff_m compares sqrt of the returned float squared distances
+/// with our metrics' exact distances.
 ///
 /// Open3D 0.16 sizes its loops by utility::EstimateMaxThreads(): all cores unless
 /// OMP_NUM_THREADS is set, omp_get_max_threads() when it is. So run with OMP_NUM_THREADS
@@ -22,8 +29,10 @@
 #include <pcl/kdtree/kdtree_flann.h>
 #include <pcl/point_cloud.h>
 #include <pcl/point_types.h>
+#include <pcl/search/kdtree.h>
 
 #include <plantnbv/common/random.h>
+#include <plantnbv/metrics/morton_kdtree.h>
 #include <plantnbv/metrics/reconstruction_metrics.h>
 #include <plantnbv/sampling/mesh_sampler.h>
 
@@ -35,6 +44,7 @@
 #endif
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <cstdlib>
@@ -246,6 +256,50 @@ void benchNanoflann(benchmark::State& state, std::size_t n, int threads)
   report(state, s, threads, &dist, d);
 }
 
+/// Our tree builds on the row's threads (PCL's on one, always).
+void setBuildThreads(plantnbv::search::MortonKdTree<pcl::PointXYZ>& search, int threads)
+{
+  search.setNumberOfThreads(threads);
+}
+void setBuildThreads(pcl::search::KdTree<pcl::PointXYZ>&, int) {}
+
+/// k = 1 through a pcl::search::Search: build on T, then the nearest of each point of R.
+template <typename Search>
+void benchSearch(benchmark::State& state, std::size_t n, int threads)
+{
+  const Data& d = data(n);
+  const CloudXYZ& queries = *d.reconstruction;
+  const auto n_queries = static_cast<long long>(queries.size());
+  std::vector<float> sqr_dists(queries.size());
+  double build_s = 0.0;
+  for (auto _ : state) {
+    const auto start = std::chrono::steady_clock::now();
+    Search search; // sorted results, the default of both
+    setBuildThreads(search, threads);
+    search.setInputCloud(d.reference);
+    build_s +=
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+#pragma omp parallel num_threads(threads)
+    {
+      pcl::Indices index(1);
+      std::vector<float> sqr_dist(1);
+#pragma omp for schedule(dynamic, 1024)
+      for (long long i = 0; i < n_queries; ++i) {
+        search.nearestKSearch(queries[i], 1, index, sqr_dist);
+        sqr_dists[i] = sqr_dist[0];
+      }
+    }
+    benchmark::DoNotOptimize(sqr_dists.data());
+  }
+  state.counters["threads"] = threads;
+  state.counters["build_ms"] = 1e3 * build_s / double(state.iterations());
+  double max_diff = 0.0;
+  for (std::size_t i = 0; i < queries.size(); ++i)
+    max_diff =
+        std::max(max_diff, std::abs(std::sqrt(double(sqr_dists[i])) - d.ours.r_to_t[i]));
+  state.counters["max_diff_m"] = max_diff;
+}
+
 #ifdef PLANTNBV_BENCH_OPEN3D
 /// threads = 0: Open3D's own choice.
 void benchOpen3d(benchmark::State& state, std::size_t n, int threads)
@@ -297,6 +351,16 @@ int main(int argc, char** argv)
     if (!std::getenv("OMP_NUM_THREADS"))
       add("metrics/open3d/" + size + "/threads:all", benchOpen3d, n, 0);
 #endif
+  }
+  for (const std::size_t n : {50000, 300000}) {
+    const std::string size = std::to_string(n / 1000) + "k";
+    for (const int threads : {1, 2}) {
+      const std::string suffix = "/" + size + "/threads:" + std::to_string(threads);
+      add("search/morton_kdtree" + suffix,
+          benchSearch<plantnbv::search::MortonKdTree<pcl::PointXYZ>>, n, threads);
+      add("search/pcl_kdtree" + suffix, benchSearch<pcl::search::KdTree<pcl::PointXYZ>>,
+          n, threads);
+    }
   }
   benchmark::RunSpecifiedBenchmarks();
   benchmark::Shutdown();

@@ -704,34 +704,12 @@ ViewGain computeFast(const Snapshot& snap, const Bricks<CodeT>& bricks,
     }
     bool reached_end = false;
     for (;;) {
-      // OctoMap's step (ray_traversal.h), with the brick change per axis.
+      // OctoMap's step (ray_traversal.h); a step into a new brick along its axis.
       double t_entry;
-      bool new_brick;
-      if (tx < ty) {
-        if (tx < tz) {
-          kx += sx;
-          t_entry = tx;
-          tx += dx;
-          new_brick = (kx & kBrickMask) == wrap_x;
-        } else {
-          kz += sz;
-          t_entry = tz;
-          tz += dz;
-          new_brick = (kz & kBrickMask) == wrap_z;
-        }
-      } else {
-        if (ty < tz) {
-          ky += sy;
-          t_entry = ty;
-          ty += dy;
-          new_brick = (ky & kBrickMask) == wrap_y;
-        } else {
-          kz += sz;
-          t_entry = tz;
-          tz += dz;
-          new_brick = (kz & kBrickMask) == wrap_z;
-        }
-      }
+      const int axis = rt::ddaStep(tx, ty, tz, dx, dy, dz, sx, sy, sz, kx, ky, kz, t_entry);
+      const bool new_brick = axis == 0   ? (kx & kBrickMask) == wrap_x
+                             : axis == 1 ? (ky & kBrickMask) == wrap_y
+                                         : (kz & kBrickMask) == wrap_z;
       if (kx == ex && ky == ey && kz == ez) {
         reached_end = true;
         break;

@@ -23,6 +23,21 @@ YamlReader::Handler into(const YamlReader& r, T& field, const char* expected)
   };
 }
 
+/// A handler that reads a name and converts it with `parse` (whose InvalidArgumentError
+/// is reported at the key).
+template <typename T, typename Parse>
+YamlReader::Handler parsed(const YamlReader& r, T& field, const char* expected, Parse parse)
+{
+  return [&r, &field, expected, parse](const YAML::Node& n, const std::string& k) {
+    const std::string name = r.read<std::string>(n, k, expected);
+    try {
+      field = parse(name);
+    } catch (const InvalidArgumentError& e) {
+      r.fail(k, e.what());
+    }
+  };
+}
+
 void readInitialView(const YamlReader& r, const YAML::Node& node, const std::string& path,
                      Viewpoint& view)
 {
@@ -55,26 +70,10 @@ void readTrialConfig(const YamlReader& r, const YAML::Node& root, const std::str
   const char* boolean = "true or false";
   r.forEach(
       root, path,
-      {{"camera",
-        [&](const YAML::Node& n, const std::string& k) {
-          const std::string name = r.read<std::string>(n, k, "a camera");
-          try {
-            c.camera = parseCameraIntrinsics(name);
-          } catch (const InvalidArgumentError& e) {
-            r.fail(k, e.what());
-          }
-        }},
+      {{"camera", parsed(r, c.camera, "a camera", parseCameraIntrinsics)},
        {"noise", into(r, c.noise.enabled, boolean)},
        {"views", into(r, c.views, integer)},
-       {"planner",
-        [&](const YAML::Node& n, const std::string& k) {
-          const std::string name = r.read<std::string>(n, k, "a planner");
-          try {
-            c.planner = plannerKindFromName(name);
-          } catch (const InvalidArgumentError& e) {
-            r.fail(k, e.what());
-          }
-        }},
+       {"planner", parsed(r, c.planner, "a planner", plannerKindFromName)},
        {"pattern", into(r, c.pattern, integer)},
        {"stop_gain_bits", into(r, c.stop_gain_bits, number)},
        {"seed", into(r, c.seed, "a seed (integer >= 0)")},

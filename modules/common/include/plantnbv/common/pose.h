@@ -1,6 +1,6 @@
 #pragma once
 /// \file pose.h
-/// \brief Rigid poses. Frames and units follow docs/conventions in DESIGN.md: metres,
+/// \brief Rigid poses. Frames and units follow docs/architecture.md ("Conventions"): metres,
 /// world frame x forward from the robot base and z up. A `Viewpoint` is the camera body
 /// frame (x forward, y left, z up), as the paper's Table 1 gives v0; the optical frame
 /// (z forward) is derived inside the sensor.

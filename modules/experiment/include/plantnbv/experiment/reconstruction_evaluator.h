@@ -40,7 +40,7 @@ struct LevelScore {
 };
 
 /// \brief Ground truth computed once per plant and pose, then scores for any number of
-/// reconstructions (DESIGN.md, "Metrics"):
+/// reconstructions (docs/architecture.md, "Conventions"):
 /// - ground truth: the plant's mesh sampled (groundTruthSampleCount points, seeded), or
 ///   its scan points, reduced to the centres of the voxels they fall in, on OctoMap's
 ///   lattice at the map's resolution (VoxelGridFilter with voxel centres), so that a

@@ -39,9 +39,10 @@ struct MetricsResult {
 /// campaign sets the reference once per plant and the reconstruction once per view.
 /// The tree is a KD-tree over the points in Morton (Z-order) order: midpoint splits that
 /// cycle the axes, leaves of at most 64 points, and the tight bounding box of each child
-/// for pruning. Queries run in the same spatially coherent order and start from the
-/// smallest subtree that must hold the answer: on surface samples 3-7x faster than Open3D
-/// (FLANN) and 2-4x faster than nanoflann, builds included (docs/performance.md).
+/// for pruning. It is the tree of search::MortonKdTree (morton_kdtree.h), the same
+/// implementation, which offers it to PCL as a pcl::search::Search. Here the queries run
+/// in the spatially coherent order of the query cloud's own tree and start from the
+/// smallest subtree that must hold the answer (figures: docs/performance.md).
 ///
 /// Distances are exact: every per-point distance is the true nearest-neighbour distance,
 /// computed in double precision from the clouds' float coordinates as

@@ -85,6 +85,37 @@ inline bool setupRay(const float origin[3], const float end[3], const int key_or
   return true;
 }
 
+/// \brief One step of OctoMap's 3D DDA: into the next voxel along the axis whose border
+/// the ray crosses first (on ties z before y before x, OctoMap's comparisons). The
+/// traversal below and the planner's gain (which also tracks bricks and jumps over empty
+/// ones) both step with it, so the step exists once.
+/// \param[in,out] tx, ty, tz where the ray crosses the current voxel's next border per
+/// axis (OctoMap's tMax); the crossed one advances by its delta.
+/// \param[in,out] kx, ky, kz the voxel's key; the crossed axis moves by its step.
+/// \param[out] t_entry where the ray enters the new voxel (the crossed tMax before the
+/// step). \return the axis stepped along: 0, 1 or 2.
+inline int ddaStep(double& tx, double& ty, double& tz, double dx, double dy, double dz,
+                   int sx, int sy, int sz, int& kx, int& ky, int& kz, double& t_entry)
+{
+  if (tx < ty) {
+    if (tx < tz) {
+      kx += sx;
+      t_entry = tx;
+      tx += dx;
+      return 0;
+    }
+  } else if (ty < tz) {
+    ky += sy;
+    t_entry = ty;
+    ty += dy;
+    return 1;
+  }
+  kz += sz;
+  t_entry = tz;
+  tz += dz;
+  return 2;
+}
+
 /// \brief Adds `delta` to `t` while t < target, with the result bit for bit that of
 /// as many sequential double additions (`while (t < target) t += delta;`): how the DDA
 /// below advances one axis's t_max past a distance at once.
@@ -180,33 +211,8 @@ void traverseRay(const float origin[3], const float end[3], const int key_origin
   const float length = s.length;
   int kx = key_origin[0], ky = key_origin[1], kz = key_origin[2];
   for (;;) {
-    int axis;
     double t_entry;
-    if (tx < ty) {
-      if (tx < tz) {
-        kx += sx;
-        t_entry = tx;
-        tx += dx;
-        axis = 0;
-      } else {
-        kz += sz;
-        t_entry = tz;
-        tz += dz;
-        axis = 2;
-      }
-    } else {
-      if (ty < tz) {
-        ky += sy;
-        t_entry = ty;
-        ty += dy;
-        axis = 1;
-      } else {
-        kz += sz;
-        t_entry = tz;
-        tz += dz;
-        axis = 2;
-      }
-    }
+    const int axis = ddaStep(tx, ty, tz, dx, dy, dz, sx, sy, sz, kx, ky, kz, t_entry);
     if (kx == ex && ky == ey && kz == ez)
       break;
     // Past the segment's length without reaching the end voxel (rounding): stop.

@@ -48,7 +48,7 @@ struct NextViewResult {
 };
 
 /// \brief A view planner: the planner is to maps what a filter is to clouds
-/// (DESIGN.md). Set the map, the candidate sampler and the parameters, then
+/// (docs/architecture.md). Set the map, the candidate sampler and the parameters, then
 /// `compute(result)` gives the next view.
 ///
 /// Randomness: the planner owns an Rng (setSeed, default seed 0); candidates are drawn

@@ -11,7 +11,7 @@
 namespace plantnbv {
 
 /// \brief Draws candidate viewpoints (camera body frame: x forward, y left, z up,
-/// DESIGN.md).
+/// docs/architecture.md, "Conventions").
 ///
 /// A sampler is a value-like description of where the camera may go; the randomness
 /// comes from the caller's Rng, so a planner that owns the Rng makes its draws
