@@ -16,12 +16,11 @@
 #include <plantnbv/io/mesh_io.h>
 #include <plantnbv/io/roi_io.h>
 #include <plantnbv/plant/anatomy_json.h>
+#include <plantnbv/scenario/trial_setup.h>
 #include <plantnbv/viz/palette.h>
 #include <plantnbv/viz/snapshot.h>
 
 #include "commands.h"
-#include <plantnbv/scenario/trial_setup.h>
-
 #include "plant_options.h"
 
 namespace plantnbv {

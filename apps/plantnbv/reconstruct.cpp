@@ -21,11 +21,10 @@
 #include <plantnbv/io/cloud_io.h>
 #include <plantnbv/io/roi_io.h>
 #include <plantnbv/metrics/reconstruction_metrics.h>
-#include <plantnbv/viz/palette.h>
-#include <plantnbv/viz/snapshot.h>
-
 #include <plantnbv/scenario/trial_config_file.h>
 #include <plantnbv/scenario/trial_setup.h>
+#include <plantnbv/viz/palette.h>
+#include <plantnbv/viz/snapshot.h>
 
 #include "commands.h"
 #include "plant_options.h"

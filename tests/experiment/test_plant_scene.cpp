@@ -15,8 +15,8 @@ namespace {
 TriangleMesh verticalQuad()
 {
   TriangleMesh mesh;
-  mesh.vertices = {{0.0f, -0.2f, 0.0f}, {0.0f, 0.2f, 0.0f}, {0.0f, 0.2f, 0.4f},
-                   {0.0f, -0.2f, 0.4f}};
+  mesh.vertices = {
+      {0.0f, -0.2f, 0.0f}, {0.0f, 0.2f, 0.0f}, {0.0f, 0.2f, 0.4f}, {0.0f, -0.2f, 0.4f}};
   mesh.triangles = {{0, 1, 2}, {0, 2, 3}};
   mesh.labels = {PartLabel::stem, PartLabel::stem};
   return mesh;

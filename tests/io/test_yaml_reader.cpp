@@ -39,7 +39,8 @@ TEST(YamlReader, ReadsTypedValuesWithKeyPaths)
                                     numbers = r.readNumbers(w, j, 3);
                                   }}});
               }},
-             {"n", [&](const YAML::Node& v, const std::string& k) { n = r.read<int>(v, k, "n"); }},
+             {"n", [&](const YAML::Node& v,
+                       const std::string& k) { n = r.read<int>(v, k, "n"); }},
              {"flag", [&](const YAML::Node& v, const std::string& k) {
                 flag = r.read<bool>(v, k, "a flag");
               }}});
@@ -47,19 +48,27 @@ TEST(YamlReader, ReadsTypedValuesWithKeyPaths)
   EXPECT_TRUE(flag);
   EXPECT_EQ(numbers, (std::vector<double>{1.0, 2.5, 3.0}));
   EXPECT_EQ(paths, (std::vector<std::string>{"a.b"}));
-  EXPECT_EQ(r.readList<int>(r.parse("[1, 2]"), "x", "integers"), (std::vector<int>{1, 2}));
+  EXPECT_EQ(r.readList<int>(r.parse("[1, 2]"), "x", "integers"),
+            (std::vector<int>{1, 2}));
 }
 
 TEST(YamlReader, EveryMistakeNamesTheFileAndThePath)
 {
   const YamlReader r("c.yaml");
   const auto none = [](const YAML::Node&, const std::string&) {};
-  EXPECT_EQ(failure([&] { r.parse("a: [1,"); }).rfind("'c.yaml' is not valid YAML: ", 0), 0u);
-  EXPECT_EQ(failure([&] { r.forEach(r.parse("b: 1"), "trial", {{"a", none}, {"c", none}}); }),
+  EXPECT_EQ(failure([&] { r.parse("a: [1,"); }).rfind("'c.yaml' is not valid YAML: ", 0),
+            0u);
+  EXPECT_EQ(failure([&] {
+              r.forEach(r.parse("b: 1"), "trial", {{"a", none}, {"c", none}});
+            }),
             "'c.yaml' trial.b: unknown key (expected one of a, c)");
-  EXPECT_EQ(failure([&] { r.forEach(r.parse("? [x]\n: 1"), "", {{"a", none}}); }),
+  EXPECT_EQ(failure([&] {
+              r.forEach(r.parse("? [x]\n: 1"), "", {{"a", none}});
+            }),
             "'c.yaml' (top level): a key must be a name, not [x]");
-  EXPECT_EQ(failure([&] { r.forEach(r.parse("[1]"), "s", {{"a", none}}); }),
+  EXPECT_EQ(failure([&] {
+              r.forEach(r.parse("[1]"), "s", {{"a", none}});
+            }),
             "'c.yaml' s: expected a map of keys, got [1]");
   EXPECT_EQ(failure([&] { r.read<int>(r.parse("ten"), "views", "an integer"); }),
             "'c.yaml' views: 'ten' is not an integer");

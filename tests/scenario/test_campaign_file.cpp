@@ -17,13 +17,13 @@ const std::string kHead = "name: t\nplants: [{seed: 0}]\nyaws_deg: [0]\nviews: 2
 
 TEST(CampaignFile, EverySpellingOfAKindIsOnePlanner)
 {
-  const CampaignFile f = parseCampaignFile(
-      kHead + "levels: [whole-plant, fruits, leaf_nodes]\n"
-              "studies:\n  - name: a\n    planners:\n"
-              "      - {type: nbv, attention: leaf-nodes}\n"
-              "  - name: b\n    planners:\n"
-              "      - {type: nbv, attention: leaf_nodes}\n",
-      "dir/t.yaml");
+  const CampaignFile f =
+      parseCampaignFile(kHead + "levels: [whole-plant, fruits, leaf_nodes]\n"
+                                "studies:\n  - name: a\n    planners:\n"
+                                "      - {type: nbv, attention: leaf-nodes}\n"
+                                "  - name: b\n    planners:\n"
+                                "      - {type: nbv, attention: leaf_nodes}\n",
+                        "dir/t.yaml");
   const CampaignDefinition& d = f.definition;
   EXPECT_EQ(d.levels, (std::vector<std::string>{"whole_plant", "fruit", "leaf_nodes"}));
   ASSERT_EQ(d.studies.size(), 2u);
@@ -37,8 +37,9 @@ TEST(CampaignFile, EverySpellingOfAKindIsOnePlanner)
 TEST(CampaignFile, TrialConfigsComeFromTheSpec)
 {
   const CampaignFile f = parseCampaignFile(
-      kHead + "candidates: 45\nresolution: 0.005\ntrial: {gain: {rays_x: 32}}\n"
-              "studies:\n  - name: main\n    planners: [{type: predefined, patterns: [3]}]\n",
+      kHead +
+          "candidates: 45\nresolution: 0.005\ntrial: {gain: {rays_x: 32}}\n"
+          "studies:\n  - name: main\n    planners: [{type: predefined, patterns: [3]}]\n",
       "t.yaml");
   const std::vector<TrialSpec> specs = expandCampaign(f.definition);
   ASSERT_EQ(specs.size(), 1u);
@@ -55,17 +56,17 @@ TEST(CampaignFile, TrialConfigsComeFromTheSpec)
 
 TEST(CampaignFile, ErrorsNameTheKeyPath)
 {
-  const std::string studies = "studies:\n  - name: main\n    planners: [{type: random}]\n";
-  EXPECT_EQ(errorOf([&] {
-              parseCampaignFile(kHead + "candidates: 10\n" + studies, "t.yaml");
-            }),
-            "'t.yaml' candidates 10: expected a multiple of the 9 grid cells (9, 27, 45, "
-            "...)");
-  EXPECT_EQ(errorOf([&] {
-              parseCampaignFile(kHead + "levels: [leaves]\n" + studies, "t.yaml");
-            }),
-            "'t.yaml' levels[0]: unknown level 'leaves' (expected whole_plant, main_stem, "
-            "leaf_nodes, fruit or model_rois)");
+  const std::string studies =
+      "studies:\n  - name: main\n    planners: [{type: random}]\n";
+  EXPECT_EQ(
+      errorOf([&] { parseCampaignFile(kHead + "candidates: 10\n" + studies, "t.yaml"); }),
+      "'t.yaml' candidates 10: expected a multiple of the 9 grid cells (9, 27, 45, "
+      "...)");
+  EXPECT_EQ(
+      errorOf(
+          [&] { parseCampaignFile(kHead + "levels: [leaves]\n" + studies, "t.yaml"); }),
+      "'t.yaml' levels[0]: unknown level 'leaves' (expected whole_plant, main_stem, "
+      "leaf_nodes, fruit or model_rois)");
   EXPECT_EQ(errorOf([&] {
               parseCampaignFile(
                   "name: t\nplants: [{model: m.dae, stage: 0.5}]\n" + studies, "t.yaml");

@@ -51,17 +51,20 @@ TEST_F(TrialConfigFile, ErrorsNameTheFileAndTheKeyPath)
   TrialConfig c;
   const std::string f = write("bad.yaml", "sector: {radius: 0.4, hieght: 0.7}\n");
   EXPECT_EQ(errorOf([&] { scenario::loadTrialConfig(f, c); }),
-            "'" + f + "' sector.hieght: unknown key (expected one of angle_deg, bottom, "
-                      "cols, height, radius, rows, samples_per_cell)");
+            "'" + f +
+                "' sector.hieght: unknown key (expected one of angle_deg, bottom, "
+                "cols, height, radius, rows, samples_per_cell)");
   const std::string g = write("words.yaml", "views: ten\n");
   EXPECT_EQ(errorOf([&] { scenario::loadTrialConfig(g, c); }),
             "'" + g + "' views: 'ten' is not an integer");
   const std::string h = write("list.yaml", "gain: {rays_x: [1, 2]}\n");
   EXPECT_EQ(errorOf([&] { scenario::loadTrialConfig(h, c); }),
             "'" + h + "' gain.rays_x: expected an integer, got [1, 2]");
-  const std::string v = write("view.yaml", "initial_view: {position: [.nan, 0.3, 1.4]}\n");
+  const std::string v =
+      write("view.yaml", "initial_view: {position: [.nan, 0.3, 1.4]}\n");
   EXPECT_EQ(errorOf([&] { scenario::loadTrialConfig(v, c); }),
-            "'" + v + "' initial_view.position: expected 3 numbers, got [.nan, 0.3, 1.4]");
+            "'" + v +
+                "' initial_view.position: expected 3 numbers, got [.nan, 0.3, 1.4]");
   const std::string k = write("key.yaml", "? [views]\n: 3\n");
   EXPECT_EQ(errorOf([&] { scenario::loadTrialConfig(k, c); }),
             "'" + k + "' (top level): a key must be a name, not [views]");

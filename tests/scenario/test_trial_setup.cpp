@@ -34,8 +34,9 @@ TEST(Attention, KindsInAnySpellingAndRoiFiles)
   EXPECT_EQ(file.file, "my/rois.yaml");
   EXPECT_EQ(file.name(), "my/rois.yaml");
   const std::string msg = errorOf([] { Attention::parse("stems"); });
-  EXPECT_EQ(msg, "unknown ROI 'stems' (expected whole_plant, main_stem, leaf_nodes, fruit "
-                 "or an ROI file, .yaml)");
+  EXPECT_EQ(msg,
+            "unknown ROI 'stems' (expected whole_plant, main_stem, leaf_nodes, fruit "
+            "or an ROI file, .yaml)");
 }
 
 TEST(Attention, PlannerNamesKeepThePapersSpelling)
@@ -68,9 +69,10 @@ TEST(TrialSetup, CanonicalLevelNames)
   EXPECT_EQ(canonicalLevelName("fruits"), "fruit");
   EXPECT_EQ(canonicalLevelName("main-stem"), "main_stem");
   EXPECT_EQ(canonicalLevelName("model_rois"), "model_rois");
-  EXPECT_EQ(errorOf([] { canonicalLevelName("leaves"); }),
-            "unknown level 'leaves' (expected whole_plant, main_stem, leaf_nodes, fruit or "
-            "model_rois)");
+  EXPECT_EQ(
+      errorOf([] { canonicalLevelName("leaves"); }),
+      "unknown level 'leaves' (expected whole_plant, main_stem, leaf_nodes, fruit or "
+      "model_rois)");
 }
 
 TEST(TrialSetup, CandidatesAreMultiplesOfTheGridCells)

@@ -1,6 +1,6 @@
-#include <plantnbv/common/roi_kind.h>
-
 #include <algorithm>
+
+#include <plantnbv/common/roi_kind.h>
 
 namespace plantnbv {
 

@@ -1,9 +1,8 @@
-#include <plantnbv/experiment/plant_scene.h>
-
 #include <cmath>
 #include <sstream>
 
 #include <plantnbv/common/error.h>
+#include <plantnbv/experiment/plant_scene.h>
 
 namespace plantnbv {
 
@@ -36,9 +35,11 @@ std::vector<TriangleMesh> plantSceneBackground(const Plant& plant,
   std::vector<TriangleMesh> parts;
   const Eigen::Vector3d& base = plant.base_position;
   if (config.floor)
-    parts.push_back(floorMesh(config.floor_height_m, config.floor_half_size_m, base.head<2>()));
+    parts.push_back(
+        floorMesh(config.floor_height_m, config.floor_half_size_m, base.head<2>()));
   if (config.support && base.z() > config.floor_height_m)
-    parts.push_back(supportMesh(base, config.support_half_width_m, config.floor_height_m));
+    parts.push_back(
+        supportMesh(base, config.support_half_width_m, config.floor_height_m));
   return parts;
 }
 

@@ -1,8 +1,7 @@
-#include <plantnbv/io/yaml_reader.h>
-
 #include <cmath>
 
 #include <plantnbv/io/input_limits.h>
+#include <plantnbv/io/yaml_reader.h>
 
 #include "io_util.h"
 
@@ -29,8 +28,9 @@ void YamlReader::fail(const std::string& path, const std::string& message) const
                     message);
 }
 
-std::vector<double> YamlReader::readNumbers(const YAML::Node& node, const std::string& path,
-                                            std::size_t n, bool non_negative) const
+std::vector<double> YamlReader::readNumbers(const YAML::Node& node,
+                                            const std::string& path, std::size_t n,
+                                            bool non_negative) const
 {
   const std::string expected = "expected " + std::to_string(n) + " " +
                                (non_negative ? "non-negative " : "") + "numbers, got " +

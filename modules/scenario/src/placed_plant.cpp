@@ -1,5 +1,3 @@
-#include <plantnbv/scenario/placed_plant.h>
-
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
@@ -16,6 +14,7 @@
 #include <plantnbv/plant/plant_model.h>
 #include <plantnbv/plant/plant_rois.h>
 #include <plantnbv/plant/tomato_plant_generator.h>
+#include <plantnbv/scenario/placed_plant.h>
 
 namespace plantnbv {
 namespace scenario {
@@ -40,8 +39,9 @@ void checkSource(const PlantSource& s)
     throw InvalidArgumentError(
         "plant source: stage and simplified belong to a generated plant");
   if (!s.base.allFinite())
-    throw InvalidArgumentError("plant source: the base must be three finite numbers x,y,z "
-                               "in metres");
+    throw InvalidArgumentError(
+        "plant source: the base must be three finite numbers x,y,z "
+        "in metres");
   if (!std::isfinite(s.yaw_deg))
     throw InvalidArgumentError("plant source: the yaw must be a finite angle in degrees");
 }

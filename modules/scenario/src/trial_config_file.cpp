@@ -1,10 +1,9 @@
-#include <plantnbv/scenario/trial_config_file.h>
-
 #include <cmath>
 #include <vector>
 
 #include <plantnbv/common/error.h>
 #include <plantnbv/io/yaml_reader.h>
+#include <plantnbv/scenario/trial_config_file.h>
 
 namespace plantnbv {
 namespace scenario {
@@ -26,7 +25,8 @@ YamlReader::Handler into(const YamlReader& r, T& field, const char* expected)
 /// A handler that reads a name and converts it with `parse` (whose InvalidArgumentError
 /// is reported at the key).
 template <typename T, typename Parse>
-YamlReader::Handler parsed(const YamlReader& r, T& field, const char* expected, Parse parse)
+YamlReader::Handler parsed(const YamlReader& r, T& field, const char* expected,
+                           Parse parse)
 {
   return [&r, &field, expected, parse](const YAML::Node& n, const std::string& k) {
     const std::string name = r.read<std::string>(n, k, expected);
@@ -45,9 +45,8 @@ void readInitialView(const YamlReader& r, const YAML::Node& node, const std::str
   const Eigen::Quaterniond& q0 = view.orientation;
   std::vector<double> q{q0.x(), q0.y(), q0.z(), q0.w()};
   r.forEach(node, path,
-            {{"position", [&](const YAML::Node& n, const std::string& k) {
-                p = r.readNumbers(n, k, 3);
-              }},
+            {{"position", [&](const YAML::Node& n,
+                              const std::string& k) { p = r.readNumbers(n, k, 3); }},
              {"orientation", [&](const YAML::Node& n, const std::string& k) {
                 q = r.readNumbers(n, k, 4);
               }}});

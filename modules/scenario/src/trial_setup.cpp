@@ -1,10 +1,9 @@
-#include <plantnbv/scenario/trial_setup.h>
-
 #include <algorithm>
 #include <filesystem>
 
 #include <plantnbv/common/error.h>
 #include <plantnbv/io/roi_io.h>
+#include <plantnbv/scenario/trial_setup.h>
 
 namespace plantnbv {
 namespace scenario {
@@ -72,11 +71,10 @@ void setCandidateCount(int candidates, const std::string& what, TrialConfig& con
 {
   const int cells = config.grid_rows * config.grid_cols;
   if (cells <= 0 || candidates < cells || candidates % cells != 0)
-    throw InvalidArgumentError(what + " " + std::to_string(candidates) +
-                               ": expected a multiple of the " + std::to_string(cells) +
-                               " grid cells (" + std::to_string(cells) + ", " +
-                               std::to_string(3 * cells) + ", " +
-                               std::to_string(5 * cells) + ", ...)");
+    throw InvalidArgumentError(
+        what + " " + std::to_string(candidates) + ": expected a multiple of the " +
+        std::to_string(cells) + " grid cells (" + std::to_string(cells) + ", " +
+        std::to_string(3 * cells) + ", " + std::to_string(5 * cells) + ", ...)");
   config.samples_per_cell = candidates / cells;
 }
 
@@ -91,7 +89,8 @@ void fitSectorToPlant(const PlacedPlant& placed, std::optional<double> sector_he
     return;
   Eigen::Vector3f lo, hi;
   placed.plant.bounds(lo, hi);
-  config.sector.height_m = std::max(0.05, double(hi.z()) - placed.plant.base_position.z());
+  config.sector.height_m =
+      std::max(0.05, double(hi.z()) - placed.plant.base_position.z());
 }
 
 void setUpTrial(const PlacedPlant& placed, const Roi& attention,

@@ -71,7 +71,8 @@ public:
   /// \brief coordToKey for a point in single precision (OctoMap's point3d).
   bool coordToKey(const float p[3], int key[3]) const
   {
-    return coordToKey(p[0], key[0]) && coordToKey(p[1], key[1]) && coordToKey(p[2], key[2]);
+    return coordToKey(p[0], key[0]) && coordToKey(p[1], key[1]) &&
+           coordToKey(p[2], key[2]);
   }
 
   /// \brief OctoMap's keyToCoord(key): the voxel centre in double.

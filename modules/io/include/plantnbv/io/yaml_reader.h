@@ -66,7 +66,8 @@ public:
                           const char* expected) const
   {
     if (!node.IsSequence())
-      fail(path, std::string("expected a list of ") + expected + ", got " + describe(node));
+      fail(path,
+           std::string("expected a list of ") + expected + ", got " + describe(node));
     std::vector<T> out;
     for (std::size_t i = 0; i < node.size(); ++i)
       out.push_back(read<T>(node[i], index(path, i), expected));

@@ -23,7 +23,8 @@ struct PlantSource {
   std::optional<std::uint64_t> seed; ///< a generated tomato plant (0-9: the default set)
   std::optional<double> stage;       ///< its growth stage in [0, 1] (default: seed/9)
   bool simplified = false;           ///< half of the leaflets of every leaf removed
-  std::string model;  ///< or a mesh (.dae .obj .ply .stl .wrl) or scanned cloud (.pcd .ply)
+  std::string
+      model; ///< or a mesh (.dae .obj .ply .stl .wrl) or scanned cloud (.pcd .ply)
   std::string labels; ///< part label rules of a mesh, e.g. "stem=Branch.*,leaflet=Leaf.*"
   std::string rois;   ///< ROI file of a model (world frame): the level "model_rois"
   bool keep_frame = false; ///< a model: keep the file's coordinates (no base, no yaw)
