@@ -108,6 +108,14 @@ void MortonTree::build(const MortonTreeInput& input, int threads)
     return *reinterpret_cast<const float*>(reinterpret_cast<const char*>(base) +
                                            i * input.stride_bytes);
   };
+  // Point j of the list: its cloud index and coordinates; false if not finite.
+  const auto finitePoint = [&](std::size_t j, std::size_t& i, float& x, float& y, float& z) {
+    i = cloudIndexAt(j);
+    x = coordinate(input.x, i);
+    y = coordinate(input.y, i);
+    z = coordinate(input.z, i);
+    return std::isfinite(x) && std::isfinite(y) && std::isfinite(z);
+  };
   // Fixed chunks (not per thread), so that the team size cannot change the order.
   const int chunks = m < kParallelBuildMin ? 1 : std::max(threads, 1);
   const auto chunkBegin = [chunks](long long c, std::size_t n) {
@@ -123,10 +131,9 @@ void MortonTree::build(const MortonTreeInput& input, int threads)
     float lo[3] = {inf, inf, inf}, hi[3] = {-inf, -inf, -inf};
     std::size_t count = 0;
     for (std::size_t j = chunkBegin(c, m); j < chunkBegin(c + 1, m); ++j) {
-      const std::size_t i = cloudIndexAt(j);
-      const float x = coordinate(input.x, i), y = coordinate(input.y, i),
-                  z = coordinate(input.z, i);
-      if (!std::isfinite(x) || !std::isfinite(y) || !std::isfinite(z))
+      std::size_t i;
+      float x, y, z;
+      if (!finitePoint(j, i, x, y, z))
         continue;
       ++count;
       lo[0] = std::min(lo[0], x);
@@ -181,10 +188,9 @@ void MortonTree::build(const MortonTreeInput& input, int threads)
     for (long long c = 0; c < chunks; ++c) {
       std::size_t k = first[c];
       for (std::size_t j = chunkBegin(c, m); j < chunkBegin(c + 1, m); ++j) {
-        const std::size_t i = cloudIndexAt(j);
-        const float x = coordinate(input.x, i), y = coordinate(input.y, i),
-                    z = coordinate(input.z, i);
-        if (!std::isfinite(x) || !std::isfinite(y) || !std::isfinite(z))
+        std::size_t i;
+        float x, y, z;
+        if (!finitePoint(j, i, x, y, z))
           continue;
         index[k] = static_cast<std::uint32_t>(i);
         keys[k++] = spreadBits(quantize(x, 0)) | spreadBits(quantize(y, 1)) << 1 |
