@@ -4,7 +4,9 @@
 #include <cmath>
 #include <iomanip>
 #include <iostream>
+#include <limits>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -18,10 +20,13 @@
 #include <plantnbv/io/cloud_io.h>
 #include <plantnbv/io/depth_image_io.h>
 #include <plantnbv/io/file_kind.h>
+#include <plantnbv/io/frames_folder.h>
 #include <plantnbv/octree/occupancy_map.h>
 #include <plantnbv/sensor/simulated_depth_sensor.h>
 
 #include "commands.h"
+#include "frames_out.h"
+#include "map_file.h"
 #include "plant_options.h"
 
 namespace plantnbv {
@@ -33,6 +38,7 @@ struct CaptureOptions {
   PlantOptions plant;
   /// The paper's v0 (Table 1): x, y, z, qx, qy, qz, qw.
   std::vector<double> pose{0.646, 0.353, 1.383, 0.0, 0.0, -0.383, 0.924};
+  std::vector<double> optical_pose; ///< if given: the optical frame, instead of `pose`
   std::string intrinsics = "l515-640";
   bool noise = false;
   std::uint64_t noise_seed = 0;
@@ -41,33 +47,47 @@ struct CaptureOptions {
   std::string output;
   std::string depth;
   std::string map;
+  std::string frames_out;
+  std::optional<double> depth_scale;
+  std::optional<double> stamp;
 };
 
 void runCapture(const CaptureOptions& o)
 {
-  if (o.pose.size() != 7)
-    throw InvalidArgumentError("--pose needs 7 numbers x,y,z,qx,qy,qz,qw, got " +
-                               std::to_string(o.pose.size()));
+  const bool optical = !o.optical_pose.empty();
+  const std::vector<double>& v = optical ? o.optical_pose : o.pose;
+  const char* option = optical ? "--optical-pose" : "--pose";
+  if (v.size() != 7)
+    throw InvalidArgumentError(std::string(option) +
+                               " needs 7 numbers x,y,z,qx,qy,qz,qw, got " +
+                               std::to_string(v.size()));
   Pose T_W_C;
   try {
-    T_W_C = Pose::fromXyzQuat(o.pose[0], o.pose[1], o.pose[2], o.pose[3], o.pose[4],
-                              o.pose[5], o.pose[6]);
+    T_W_C = Pose::fromXyzQuat(v[0], v[1], v[2], v[3], v[4], v[5], v[6]);
   } catch (const InvalidArgumentError& e) {
-    throw InvalidArgumentError(std::string("--pose: ") + e.what());
+    throw InvalidArgumentError(std::string(option) + ": " + e.what());
   }
+  if (optical)
+    T_W_C = bodyFrame(T_W_C);
   // Output formats are checked before the work, so that nothing is rendered in vain.
+  if (o.output.empty() && o.frames_out.empty() && o.depth.empty() && o.map.empty())
+    throw InvalidArgumentError("nothing to write: give -o CLOUD, --frames-out FRAMES, "
+                               "--depth PNG or --map MAP");
   const std::string cloud_ext = io::extensionOf(o.output);
-  if (cloud_ext != ".pcd" && cloud_ext != ".ply")
+  if (!o.output.empty() && cloud_ext != ".pcd" && cloud_ext != ".ply")
     throw FormatError("-o '" + o.output + "': expected a .pcd or .ply file");
-  const std::string map_ext = io::extensionOf(o.map);
-  if (!o.map.empty() && map_ext != ".bt" && map_ext != ".ot")
-    throw FormatError("--map '" + o.map + "': expected a .bt or .ot file");
+  if (!o.map.empty())
+    requireMapExtension(o.map, "--map");
   OccupancyMap::Config map_config;
   map_config.resolution_m = o.resolution_m;
   if (!o.map.empty())
     map_config.validate(); // before the work, not after
 
   SimulatedDepthSensor sensor(parseCameraIntrinsics(o.intrinsics));
+  std::optional<io::FramesFolderWriter> frames;
+  if (!o.frames_out.empty())
+    frames.emplace(o.frames_out, framesCamera(o.frames_out, sensor.getIntrinsics(),
+                                              o.depth_scale));
   if (o.noise) {
     NoiseConfig noise;
     noise.enabled = true;
@@ -84,7 +104,7 @@ void runCapture(const CaptureOptions& o)
   Stopwatch capture_clock;
   CloudXYZL cloud;
   DepthImage depth;
-  sensor.capture(T_W_C, cloud, o.depth.empty() ? nullptr : &depth);
+  sensor.capture(T_W_C, cloud, o.depth.empty() && !frames ? nullptr : &depth);
   const double capture_ms = capture_clock.ms();
 
   std::size_t returns = 0, background = 0;
@@ -100,12 +120,21 @@ void runCapture(const CaptureOptions& o)
             << background << " on floor and support) of " << cloud.size()
             << " pixels; scene " << scene_ms << " ms, capture " << capture_ms << " ms\n";
 
-  io::saveCloud(o.output, cloud);
-  std::cout << "wrote " << o.output << " (organized " << cloud.width << "x"
-            << cloud.height << ", NaN where no return, label per point)\n";
+  if (!o.output.empty()) {
+    io::saveCloud(o.output, cloud);
+    std::cout << "wrote " << o.output << " (organized " << cloud.width << "x"
+              << cloud.height << ", NaN where no return, label per point)\n";
+  }
   if (!o.depth.empty()) {
     io::saveDepthPng(o.depth, depth.width, depth.height, depth.depth_m);
     std::cout << "wrote " << o.depth << " (16-bit, millimetres, 0 = no return)\n";
+  }
+  if (frames) {
+    frames->append(depth, opticalFrame(T_W_C),
+                   o.stamp ? *o.stamp : std::numeric_limits<double>::quiet_NaN());
+    std::cout << "appended frame " << frames->frameCount() - 1 << " to '" << o.frames_out
+              << "' (stamp " << std::setprecision(6) << frames->lastStamp()
+              << " s, optical pose in groundtruth.txt)\n";
   }
   if (!o.map.empty()) {
     OccupancyMap map(map_config);
@@ -136,6 +165,12 @@ void addCaptureCommand(CLI::App& app)
                   "paper's v0)")
       ->delimiter(',')
       ->expected(7);
+  cmd->add_option("--optical-pose", o->optical_pose,
+                  "Camera optical pose x,y,z,qx,qy,qz,qw instead (z forward, y down; as "
+                  "groundtruth.txt and `plan` give it)")
+      ->delimiter(',')
+      ->expected(7)
+      ->excludes("--pose");
   cmd->add_option("--intrinsics", o->intrinsics,
                   "l515 (1024x768), l515-640, l515-320, or WxH:fx,fy,cx,cy")
       ->capture_default_str();
@@ -145,9 +180,19 @@ void addCaptureCommand(CLI::App& app)
       ->needs("--noise");
   cmd->add_flag("--no-background", o->no_background,
                 "Leave out the floor and the support under the plant");
-  cmd->add_option("-o,--output", o->output, "Cloud file (.pcd or .ply)")->required();
+  cmd->add_option("-o,--output", o->output, "Cloud file (.pcd or .ply)");
   cmd->add_option("--depth", o->depth, "Also write the depth image (16-bit PNG, mm)");
   cmd->add_option("--map", o->map, "Also insert the view into a new map, write .bt or .ot");
+  cmd->add_option("--frames-out", o->frames_out,
+                  "Append the frame to this frames folder (depth PNG, pose, camera.yaml; "
+                  "docs/real-robot.md)");
+  cmd->add_option("--depth-scale", o->depth_scale,
+                  "Depth PNG units per metre of --frames-out (default: the folder's, else "
+                  "1000)")
+      ->needs("--frames-out");
+  cmd->add_option("--stamp", o->stamp,
+                  "Timestamp of the frame in seconds (default: the folder's last + 1)")
+      ->needs("--frames-out");
   cmd->add_option("--resolution", o->resolution_m, "Map voxel size in metres")
       ->capture_default_str();
   cmd->callback([o]() { runCapture(*o); });

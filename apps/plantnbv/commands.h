@@ -14,6 +14,8 @@ void addEvalCommand(CLI::App& app);
 void addPlantCommand(CLI::App& app);
 void addCaptureCommand(CLI::App& app);
 void addReconstructCommand(CLI::App& app);
+void addIntegrateCommand(CLI::App& app);
+void addPlanCommand(CLI::App& app);
 void addCampaignCommand(CLI::App& app);
 
 /// The command line, kept by main() for requireDisplayOrReexec().

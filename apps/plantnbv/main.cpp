@@ -48,6 +48,8 @@ int main(int argc, char** argv)
   plantnbv::app::addPlantCommand(app);
   plantnbv::app::addCaptureCommand(app);
   plantnbv::app::addReconstructCommand(app);
+  plantnbv::app::addIntegrateCommand(app);
+  plantnbv::app::addPlanCommand(app);
   plantnbv::app::addCampaignCommand(app);
 
   plantnbv::app::setCommandLine(argc, argv); // for requireDisplayOrReexec()

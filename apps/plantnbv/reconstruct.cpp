@@ -19,6 +19,7 @@
 #include <plantnbv/common/error.h>
 #include <plantnbv/experiment/trial.h>
 #include <plantnbv/io/cloud_io.h>
+#include <plantnbv/io/frames_folder.h>
 #include <plantnbv/io/roi_io.h>
 #include <plantnbv/metrics/reconstruction_metrics.h>
 #include <plantnbv/scenario/trial_config_file.h>
@@ -27,6 +28,7 @@
 #include <plantnbv/viz/snapshot.h>
 
 #include "commands.h"
+#include "frames_out.h"
 #include "plant_options.h"
 
 namespace plantnbv {
@@ -50,6 +52,8 @@ struct ReconstructOptions {
   std::optional<int> threads;
   std::string output_dir;
   bool snapshot = false;
+  std::string frames_out;
+  std::optional<double> depth_scale;
 };
 
 TrialConfig trialConfig(const ReconstructOptions& o, const PlacedPlant& placed)
@@ -71,6 +75,10 @@ TrialConfig trialConfig(const ReconstructOptions& o, const PlacedPlant& placed)
     c.seed = *o.seed;
   if (o.threads)
     c.threads = *o.threads;
+  if (o.depth_scale)
+    c.depth_scale = *o.depth_scale;
+  else if (!o.frames_out.empty() && c.depth_scale == 0.0)
+    c.depth_scale = 1000.0; // frames replay to the map only if the trial rounds as PNGs do
   scenario::fitSectorToPlant(placed, o.sector_height, c);
   c.validate();
   return c;
@@ -223,6 +231,19 @@ void runReconstruct(const ReconstructOptions& o)
     throw IoError("cannot create output directory '" + o.output_dir + "': " + ec.message());
 
   Trial trial(config);
+  std::optional<io::FramesFolderWriter> frames;
+  if (!o.frames_out.empty()) {
+    frames.emplace(o.frames_out,
+                   framesCamera(o.frames_out, config.camera, config.depth_scale));
+    if (frames->frameCount() > 0)
+      throw InvalidArgumentError("--frames-out '" + o.frames_out + "' already holds " +
+                                 std::to_string(frames->frameCount()) +
+                                 " frames: give a new folder, so that it replays to "
+                                 "this trial's map");
+    trial.setFrameCallback([&](const TrialFrame& f) {
+      frames->append(*f.depth, f.T_W_O, double(f.index));
+    });
+  }
   const std::vector<EvaluationLevel> levels = scenario::evaluationLevels(placed);
   scenario::setUpTrial(placed, attention_roi, levels, trial);
   std::cout << placed.plant.name << " (" << placed.description << "): "
@@ -309,6 +330,12 @@ void addReconstructCommand(CLI::App& app)
   cmd->add_option("--seed", o->seed, "Seed of the trial (default 0)");
   cmd->add_option("--threads", o->threads, "Threads (default: all cores)");
   cmd->add_option("-o,--output", o->output_dir, "Output directory")->required();
+  cmd->add_option("--frames-out", o->frames_out,
+                  "Write every view's frame to this new frames folder (docs/real-robot.md); "
+                  "the trial then integrates depth rounded as the PNGs store it");
+  cmd->add_option("--depth-scale", o->depth_scale,
+                  "Depth units per metre the trial rounds to (default 0: none; 1000 with "
+                  "--frames-out)");
   cmd->add_flag("--snapshot", o->snapshot,
                 "Also render DIR/snapshot.png: plant faded, occupied voxels, camera path");
   cmd->callback([o]() { runReconstruct(*o); });

@@ -8,6 +8,7 @@ data/ that are small enough. Run it again after changing it; the files are commi
 import json
 import shutil
 import struct
+import zlib
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -212,6 +213,112 @@ def anatomy():
     put(t, "no_leaves.json", json.dumps(dict(plant, leaves=[], trusses=[])))
 
 
+def depth_png(width, height, units):
+    """A 16-bit grey PNG (the depth images of a frames folder), big-endian pixels."""
+    def chunk(kind, body):
+        return (struct.pack(">I", len(body)) + kind + body +
+                struct.pack(">I", zlib.crc32(kind + body) & 0xffffffff))
+    rows = b"".join(b"\0" + struct.pack(">%dH" % width, *units[y * width:(y + 1) * width])
+                    for y in range(height))
+    return (b"\x89PNG\r\n\x1a\n" +
+            chunk(b"IHDR", struct.pack(">IIBBBBB", width, height, 16, 0, 0, 0, 0)) +
+            chunk(b"IDAT", zlib.compress(rows, 9)) + chunk(b"IEND", b""))
+
+
+def frames():
+    # camera.yaml, groundtruth.txt, depth.txt and depth/000000.png, separated by NUL
+    # bytes (fuzz_frames_folder.cpp).
+    t = "frames_folder"
+    ros_yaml = """image_width: 640
+image_height: 480
+camera_name: narrow_stereo
+camera_matrix:
+  rows: 3
+  cols: 3
+  data: [525., 0., 319.5, 0., 525., 239.5,
+         0., 0., 1.]
+distortion_model: plumb_bob
+distortion_coefficients:
+  rows: 1
+  cols: 5
+  data: [0., 0., 0., 0., 0.]
+rectification_matrix:
+  rows: 3
+  cols: 3
+  data: [1., 0., 0., 0., 1., 0., 0., 0., 1.]
+projection_matrix:
+  rows: 3
+  cols: 4
+  data: [525., 0., 319.5, 0., 0., 525., 239.5, 0., 0., 0., 1., 0.]
+depth_scale: 5000
+"""
+    # In the form of TUM RGB-D fr1/xyz: poses at 100 Hz, depth at 30 Hz.
+    tum_poses = """# ground truth trajectory
+# file: 'rgbd_dataset_freiburg1_xyz.bag'
+# timestamp tx ty tz qx qy qz qw
+1305031102.1558 1.3405 0.6266 1.6575 0.6574 0.6126 -0.2949 -0.3248
+1305031102.1658 1.3402 0.6264 1.6578 0.6578 0.6121 -0.2950 -0.3246
+1305031102.1758 1.3397 0.6263 1.6579 0.6583 0.6116 -0.2950 -0.3245
+1305031102.1858 1.3393 0.6262 1.6581 0.6587 0.6111 -0.2951 -0.3244
+1305031102.1958 1.3388 0.6261 1.6583 0.6591 0.6106 -0.2952 -0.3242
+"""
+    tum_depth = """# depth maps
+# file: 'rgbd_dataset_freiburg1_xyz.bag'
+# timestamp filename
+1305031102.160407 depth/1305031102.160407.png
+1305031102.194330 depth/1305031102.194330.png
+1305031102.226738 depth/1305031102.226738.png
+"""
+    put(t, "ros_tum_fr1.bin", "\0".join([ros_yaml, tum_poses, tum_depth]))
+    # As FramesFolderWriter writes a folder (writeCameraInfo's camera.yaml), with its
+    # first PNG: 8 x 6 pixels, 0 = no return.
+    written_yaml = """# ROS camera_info (as camera_calibration writes it) + depth_scale (plantnbv)
+image_width: 8
+image_height: 6
+camera_name: depth
+camera_matrix:
+  rows: 3
+  cols: 3
+  data: [3.3333333333333335, 0, 3.5, 0, 4.25, 2.5, 0, 0, 1]
+distortion_model: plumb_bob
+distortion_coefficients:
+  rows: 1
+  cols: 5
+  data: [0, 0, 0, 0, 0]
+rectification_matrix:
+  rows: 3
+  cols: 3
+  data: [1, 0, 0, 0, 1, 0, 0, 0, 1]
+projection_matrix:
+  rows: 3
+  cols: 4
+  data: [3.3333333333333335, 0, 3.5, 0, 0, 4.25, 2.5, 0, 0, 0, 1, 0]
+depth_scale: 1000
+"""
+    written_poses = ("# T_W_O: the depth camera's optical frame (z forward, x right, y down) "
+                     "in the world (z up)\n# timestamp tx ty tz qx qy qz qw\n"
+                     "0.000000 0.59999999999999998 0.29999999999999999 1.3 "
+                     "-0.5 0.5 -0.5 0.5\n"
+                     "1.000000 0.5 -0.10000000000000001 1.2 0.27059805007309851 "
+                     "0.65328148243818829 -0.65328148243818818 -0.27059805007309845\n")
+    written_depth = ("# depth images (16-bit PNG, depth_scale units per metre in "
+                     "camera.yaml)\n# timestamp filename\n"
+                     "0.000000 depth/000000.png\n1.000000 depth/000000.png\n")
+    units = [0 if i % 7 == 0 else 400 + 13 * i for i in range(48)]
+    put(t, "written_8x6.bin", b"\0".join([written_yaml.encode(), written_poses.encode(),
+                                          written_depth.encode(), depth_png(8, 6, units)]))
+    # CRLF, blank lines, poses out of order, a frame without a pose, a quaternion to
+    # normalize, a subnormal, poses.txt-style numbers.
+    put(t, "unsorted_crlf.bin", "\0".join([
+        "image_width: 4\r\nimage_height: 2\r\ncamera_matrix: {rows: 3, cols: 3, "
+        "data: [2, 0, 1.5, 0, 2, 0.5, 0, 0, 1]}\r\ndistortion_model: plumb_bob\r\n"
+        "distortion_coefficients: {rows: 1, cols: 5, data: [0, 0, 0, 0, 0]}\r\n",
+        "\r\n# t x y z qx qy qz qw\r\n2.01 1 2 3 0 0 0 1.0005\r\n"
+        "0.995 -1e-3 5e-324 0x1p-3 0 0.6 0 0.8\r\n1.5 0 0 0 1 0 0 0\r\n",
+        "1.0 depth/000000.png\r\n\r\n2.0\tdepth/000000.png\r\n3.0 depth/x.png\r\n",
+        ""]).encode() + depth_png(4, 2, [1, 2, 65535, 0, 5000, 6000, 7000, 8000]))
+
+
 def campaign():
     t = "campaign_yaml"
     for name in ["quick.yaml", "paper.yaml"]:
@@ -250,7 +357,7 @@ studies:
 if __name__ == "__main__":
     if OUT.exists():
         shutil.rmtree(OUT)
-    for make in [pcd, ply, vrml, assimp, roi, anatomy, campaign]:
+    for make in [pcd, ply, vrml, assimp, roi, frames, anatomy, campaign]:
         make()
     for d in sorted(OUT.iterdir()):
         print("%-14s %d files" % (d.name, len(list(d.iterdir()))))

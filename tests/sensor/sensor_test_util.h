@@ -10,7 +10,7 @@
 
 #include <plantnbv/common/pose.h>
 #include <plantnbv/common/triangle_mesh.h>
-#include <plantnbv/sensor/camera_intrinsics.h>
+#include <plantnbv/camera/camera_intrinsics.h>
 #include <plantnbv/sensor/simulated_depth_sensor.h>
 
 namespace plantnbv {

@@ -28,21 +28,21 @@ enum SeedStream : std::uint64_t {
   kTruthStream = 3
 };
 
-std::unique_ptr<ViewPlanner> makePlanner(const TrialConfig& c)
+ViewPlanner::Ptr makePlanner(const TrialConfig& c)
 {
   switch (c.planner) {
   case PlannerKind::nbv: {
-    auto planner = std::make_unique<AttentionNbvPlanner>();
+    auto planner = std::make_shared<AttentionNbvPlanner>();
     planner->setStopGain(c.stop_gain_bits);
     return planner;
   }
   case PlannerKind::predefined: {
-    auto planner = std::make_unique<PredefinedPlanner>();
+    auto planner = std::make_shared<PredefinedPlanner>();
     planner->setPattern(c.pattern);
     return planner;
   }
   case PlannerKind::random:
-    return std::make_unique<RandomPlanner>();
+    return std::make_shared<RandomPlanner>();
   }
   throw InvalidArgumentError("unknown planner kind");
 }
@@ -98,6 +98,9 @@ void TrialConfig::validate() const
       !(initial_view.orientation.norm() > 0.5 && initial_view.orientation.norm() < 2.0))
     bad("initial_view", "a non-finite position or orientation",
         "finite numbers and a unit quaternion");
+  if (!(depth_scale >= 0.0) || !std::isfinite(depth_scale))
+    bad("depth_scale", std::to_string(depth_scale),
+        "a finite value >= 0 (units per metre; 0: the sensor's float depth)");
   if (!(memory_cap_bytes > 0.0))
     bad("memory_cap_bytes", std::to_string(memory_cap_bytes), "> 0");
   const double need = estimatedMemoryBytes();
@@ -129,6 +132,20 @@ double TrialConfig::estimatedMemoryBytes() const
   const double image_bytes = double(camera.width) * camera.height * 32.0;
   const double ray_bytes = double(gain.rays_x) * gain.rays_y * 24.0;
   return map_bytes + image_bytes + ray_bytes;
+}
+
+ActiveVisionSession::Config sessionConfigOf(const TrialConfig& c)
+{
+  ActiveVisionSession::Config session;
+  session.map = c.map;
+  session.sector = c.sector;
+  session.grid_rows = c.grid_rows;
+  session.grid_cols = c.grid_cols;
+  session.samples_per_cell = c.samples_per_cell;
+  session.gain = c.gain;
+  session.seed = c.seed;
+  session.threads = c.threads;
+  return session;
 }
 
 std::vector<double> TrialResult::f1Curve(std::size_t level) const
@@ -192,9 +209,14 @@ void Trial::run(TrialResult& result)
   evaluator.setBackground(background);
   sector_ = c.sector;
   sector_.axis_base = plant_->base_position;
-  auto sampler = std::make_shared<CylindricalSectorSampler>(sector_);
-  sampler->setGrid(c.grid_rows, c.grid_cols);
-  sampler->setSamplesPerCell(c.samples_per_cell);
+  ActiveVisionSession::Config session_config = sessionConfigOf(c);
+  session_config.sector = sector_;
+  session_config.seed = deriveSeed(c.seed, kPlannerStream);
+  ActiveVisionSession session(session_config);
+  session.setCamera(c.camera); // the candidates' frusta are the camera's
+  session.setPlanner(makePlanner(c));
+  session.setRoi(attention_);
+  map_ = session.getMap();
   result.setup_ms = setup_clock.ms();
   auto checkTimeLimit = [&](const char* after) {
     if (c.time_limit_s > 0.0 && total_clock.ms() > 1000.0 * c.time_limit_s) {
@@ -206,22 +228,11 @@ void Trial::run(TrialResult& result)
   };
   checkTimeLimit("setup");
 
-  map_ = std::make_shared<OccupancyMap>(c.map);
-  map_->setNumberOfThreads(c.threads);
-  std::unique_ptr<ViewPlanner> planner = makePlanner(c);
-  planner->setInputMap(map_);
-  planner->setCandidateSampler(sampler);
-  planner->setRoi(attention_);
-  GainConfig gain = c.gain; // the candidates' frusta are the camera's
-  gain.horizontal_fov_rad = c.camera.horizontalFov();
-  gain.vertical_fov_rad = c.camera.verticalFov();
-  planner->setGainConfig(gain);
-  planner->setSeed(deriveSeed(c.seed, kPlannerStream));
-  planner->setNumberOfThreads(c.threads);
-
   Viewpoint view(c.initial_view.position + (plant_->base_position - paperPlantBase()),
                  c.initial_view.orientation);
   CloudXYZL frame;
+  DepthImage depth;
+  const bool rounded_depth = c.depth_scale > 0.0;
   CloudXYZ occupied;
   for (int index = 0; index < c.views; ++index) {
     TrialStep step;
@@ -229,9 +240,10 @@ void Trial::run(TrialResult& result)
     step.gain = std::numeric_limits<double>::quiet_NaN();
     if (index > 0) {
       Stopwatch plan_clock;
-      planner->setCurrentView(view);
-      NextViewResult next;
-      planner->compute(next);
+      session.setCurrentView(view);
+      NextBestView best;
+      session.nextBestView(best);
+      const NextViewResult& next = best.result;
       step.plan_ms = plan_clock.ms();
       if (next.stop) {
         result.stopped_early = true;
@@ -245,12 +257,25 @@ void Trial::run(TrialResult& result)
 
     Stopwatch capture_clock;
     sensor.setFrameIndex(static_cast<std::uint64_t>(index));
-    sensor.capture(view, frame);
+    sensor.capture(view, frame, rounded_depth || frame_callback_ ? &depth : nullptr);
     step.capture_ms = capture_clock.ms();
 
     Stopwatch insert_clock;
-    map_->insert(frame, view.position);
+    const Pose T_W_O = opticalFrame(view); // a frames folder reads it back bit for bit
+    if (rounded_depth) {
+      roundDepthToUnits(depth, c.depth_scale);
+      session.integrate(depth, c.camera, T_W_O);
+    } else {
+      session.integrate(frame, view.position);
+    }
     step.insert_ms = insert_clock.ms();
+    if (frame_callback_) {
+      TrialFrame record;
+      record.index = index;
+      record.T_W_O = T_W_O;
+      record.depth = &depth;
+      frame_callback_(record);
+    }
 
     Stopwatch eval_clock;
     map_->getOccupiedVoxelCentres(occupied);

@@ -8,10 +8,19 @@
 
 #include <png.h>
 
+#include <plantnbv/camera/depth_image.h>
 #include <plantnbv/common/error.h>
 
 namespace plantnbv {
 namespace io {
+
+namespace {
+
+/// The largest side of a camera (CameraIntrinsics::validate): a larger PNG is refused
+/// before its pixels are allocated.
+constexpr png_uint_32 kMaxDepthPngSide = 16384;
+
+} // namespace
 
 // libpng's simplified API: no setjmp, errors come back in png_image::message. A 16-bit
 // "linear" grey image is stored as it is (libpng scales only 8-bit sRGB data).
@@ -26,12 +35,9 @@ void saveDepthPng(const std::string& path, std::uint32_t width, std::uint32_t he
   if (!(units_per_metre > 0.0) || !std::isfinite(units_per_metre))
     throw InvalidArgumentError("saveDepthPng: units_per_metre must be > 0, got " +
                                std::to_string(units_per_metre));
-  std::vector<png_uint_16> pixels(depth_m.size(), 0);
-  for (std::size_t i = 0; i < depth_m.size(); ++i) {
-    const double units = std::round(double(depth_m[i]) * units_per_metre);
-    if (units >= 1.0 && units <= 65535.0) // NaN fails both
-      pixels[i] = static_cast<png_uint_16>(units);
-  }
+  std::vector<png_uint_16> pixels(depth_m.size());
+  for (std::size_t i = 0; i < depth_m.size(); ++i)
+    pixels[i] = depthToUnits(depth_m[i], units_per_metre);
   png_image image{};
   image.version = PNG_IMAGE_VERSION;
   image.width = width;
@@ -41,8 +47,12 @@ void saveDepthPng(const std::string& path, std::uint32_t width, std::uint32_t he
     throw IoError("cannot write depth image '" + path + "': " + image.message);
 }
 
-void loadDepthPng(const std::string& path, std::uint32_t& width, std::uint32_t& height,
-                  std::vector<float>& depth_m, double units_per_metre)
+namespace {
+
+void loadDepthPngOfSize(const std::string& path, std::uint32_t& width,
+                        std::uint32_t& height, std::vector<float>& depth_m,
+                        double units_per_metre, std::uint32_t expected_width,
+                        std::uint32_t expected_height)
 {
   if (!(units_per_metre > 0.0) || !std::isfinite(units_per_metre))
     throw InvalidArgumentError("loadDepthPng: units_per_metre must be > 0, got " +
@@ -59,6 +69,20 @@ void loadDepthPng(const std::string& path, std::uint32_t& width, std::uint32_t& 
     png_image_free(&image);
     throw FormatError("'" + path + "' is not a 16-bit grey PNG (a depth image)");
   }
+  if (image.width > kMaxDepthPngSide || image.height > kMaxDepthPngSide) {
+    png_image_free(&image);
+    throw FormatError("'" + path + "' is " + std::to_string(image.width) + "x" +
+                      std::to_string(image.height) + " pixels, more than " +
+                      std::to_string(kMaxDepthPngSide) + " per side");
+  }
+  if (expected_width != 0 &&
+      (image.width != expected_width || image.height != expected_height)) {
+    png_image_free(&image);
+    throw FormatError("'" + path + "' is " + std::to_string(image.width) + "x" +
+                      std::to_string(image.height) + ", camera.yaml says " +
+                      std::to_string(expected_width) + "x" +
+                      std::to_string(expected_height));
+  }
   image.format = PNG_FORMAT_LINEAR_Y;
   std::vector<png_uint_16> pixels(std::size_t(image.width) * image.height);
   if (!png_image_finish_read(&image, nullptr, pixels.data(), 0, nullptr))
@@ -67,8 +91,22 @@ void loadDepthPng(const std::string& path, std::uint32_t& width, std::uint32_t& 
   height = image.height;
   depth_m.resize(pixels.size());
   for (std::size_t i = 0; i < pixels.size(); ++i)
-    depth_m[i] = pixels[i] == 0 ? std::numeric_limits<float>::quiet_NaN()
-                                : float(pixels[i] / units_per_metre);
+    depth_m[i] = depthFromUnits(pixels[i], units_per_metre);
+}
+
+} // namespace
+
+void loadDepthPng(const std::string& path, std::uint32_t& width, std::uint32_t& height,
+                  std::vector<float>& depth_m, double units_per_metre)
+{
+  loadDepthPngOfSize(path, width, height, depth_m, units_per_metre, 0, 0);
+}
+
+void loadDepthPng(const std::string& path, DepthImage& depth, double units_per_metre,
+                  std::uint32_t expected_width, std::uint32_t expected_height)
+{
+  loadDepthPngOfSize(path, depth.width, depth.height, depth.depth_m, units_per_metre,
+                     expected_width, expected_height);
 }
 
 } // namespace io

@@ -860,6 +860,25 @@ OccupancyMap::VoxelCounts OccupancyMap::countVoxels() const
   return counts;
 }
 
+std::unique_ptr<OccupancyMap> OccupancyMap::read(const std::string& path, Config config,
+                                                 bool* maximum_likelihood)
+{
+  std::unique_ptr<octomap::OcTree> tree = readOcTree(path);
+  if (maximum_likelihood)
+    *maximum_likelihood = isBinaryOcTreeFile(path);
+  config.resolution_m = tree->getResolution();
+  auto map = std::make_unique<OccupancyMap>(config);
+  tree->setProbHit(config.prob_hit);
+  tree->setProbMiss(config.prob_miss);
+  tree->setClampingThresMin(config.clamp_min);
+  tree->setClampingThresMax(config.clamp_max);
+  tree->setOccupancyThres(config.occupancy_threshold);
+  tree->updateInnerOccupancy();
+  tree->prune();
+  map->tree_ = std::move(tree);
+  return map;
+}
+
 void OccupancyMap::write(const std::string& path) const
 {
   writeOcTree(path, *tree_);

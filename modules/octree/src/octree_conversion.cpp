@@ -181,6 +181,13 @@ std::unique_ptr<octomap::OcTree> cloudToOcTree(const CloudXYZ& cloud, double res
   return tree;
 }
 
+bool isBinaryOcTreeFile(const std::string& path)
+{
+  std::ifstream in(path, std::ios::binary);
+  std::string first_line;
+  return in && std::getline(in, first_line) && startsWith(first_line, kBinaryHeader);
+}
+
 std::unique_ptr<octomap::OcTree> readOcTree(const std::string& path)
 {
   // Checked here so that a missing file is an IoError before OctoMap prints anything.
@@ -229,7 +236,10 @@ void writeOcTree(const std::string& path, const octomap::OcTree& tree)
   if (ext != ".bt" && ext != ".ot")
     throw FormatError("cannot write octree file '" + path + "': extension '" + ext +
                       "' is neither .bt nor .ot");
-  std::ofstream out(path, std::ios::binary | std::ios::trunc);
+  // Written beside the target and renamed over it: an existing map is replaced whole
+  // or not at all, never left half-written.
+  const std::string partial = path + ".partial";
+  std::ofstream out(partial, std::ios::binary | std::ios::trunc);
   if (!out)
     throw IoError("cannot open octree file '" + path + "' for writing");
   // OctoMap's file layout (AbstractOcTree::write, AbstractOccupancyOcTree::writeBinary),
@@ -248,8 +258,16 @@ void writeOcTree(const std::string& path, const octomap::OcTree& tree)
     tree.writeData(out);
   const bool ok = out.good();
   out.close();
-  if (!ok || out.fail())
+  std::error_code ec;
+  if (!ok || out.fail()) {
+    std::filesystem::remove(partial, ec);
     throw IoError("error while writing octree file '" + path + "'");
+  }
+  std::filesystem::rename(partial, path, ec);
+  if (ec) {
+    std::filesystem::remove(partial, ec);
+    throw IoError("cannot replace octree file '" + path + "': " + ec.message());
+  }
 }
 
 } // namespace plantnbv

@@ -71,6 +71,7 @@ void readTrialConfig(const YamlReader& r, const YAML::Node& root, const std::str
       root, path,
       {{"camera", parsed(r, c.camera, "a camera", parseCameraIntrinsics)},
        {"noise", into(r, c.noise.enabled, boolean)},
+       {"depth_scale", into(r, c.depth_scale, number)},
        {"views", into(r, c.views, integer)},
        {"planner", parsed(r, c.planner, "a planner", plannerKindFromName)},
        {"pattern", into(r, c.pattern, integer)},

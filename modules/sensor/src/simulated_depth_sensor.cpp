@@ -84,13 +84,6 @@ inline void streamPoint(pcl::PointXYZL& p, float x, float y, float z, std::uint3
 
 } // namespace
 
-Pose opticalFrame(const Pose& T_W_C)
-{
-  Eigen::Matrix3d R_C_O;
-  R_C_O << 0.0, 0.0, 1.0, -1.0, 0.0, 0.0, 0.0, -1.0, 0.0;
-  return Pose(T_W_C.position, T_W_C.orientation * Eigen::Quaterniond(R_C_O));
-}
-
 struct SimulatedDepthSensor::Buffers {
   /// Unit ray directions of the pixel centres in the optical frame, for `rays_for`
   /// (rebuilt when the intrinsics change), in tile order: for each 4 x 4 tile 16 x, then

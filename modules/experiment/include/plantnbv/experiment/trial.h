@@ -10,17 +10,19 @@
 #include <string>
 #include <vector>
 
+#include <plantnbv/camera/camera_intrinsics.h>
+#include <plantnbv/camera/depth_image.h>
 #include <plantnbv/common/box.h>
 #include <plantnbv/common/error.h>
 #include <plantnbv/common/pose.h>
+#include <plantnbv/experiment/plant_scene.h>
 #include <plantnbv/experiment/reconstruction_evaluator.h>
 #include <plantnbv/octree/occupancy_map.h>
 #include <plantnbv/planning/cylindrical_sector_sampler.h>
 #include <plantnbv/planning/information_gain.h>
 #include <plantnbv/plant/plant.h>
-#include <plantnbv/sensor/camera_intrinsics.h>
 #include <plantnbv/sensor/noise_model.h>
-#include <plantnbv/experiment/plant_scene.h>
+#include <plantnbv/session/active_vision_session.h>
 
 namespace plantnbv {
 
@@ -47,6 +49,12 @@ struct TrialConfig {
   CameraIntrinsics camera = CameraIntrinsics::l515(L515Mode::vga_640x480);
   /// Off by default (the paper's sensor was noise-free); its seed is derived from `seed`.
   NoiseConfig noise;
+  /// Depth units per metre of the camera's depth images, as a 16-bit PNG stores them
+  /// (1000: millimetres). 0 (default, the paper's sensor): the map takes the sensor's
+  /// points as they are. > 0: every frame's depth is rounded to these units and the map
+  /// takes the frame as a robot's would come (ActiveVisionSession::integrate of the
+  /// depth image), so that the frames a trial writes replay to its map bit for bit.
+  double depth_scale = 0.0;
   PlantSceneConfig scene; ///< floor and support by default
   OccupancyMap::Config map;
 
@@ -88,6 +96,10 @@ struct TrialConfig {
   void validate() const;
 };
 
+/// \brief The session part of a trial config: map, sector, grid, gain, seed, threads
+/// (the sector's axis as in the config; a Trial puts it at the plant's base).
+ActiveVisionSession::Config sessionConfigOf(const TrialConfig& config);
+
 /// \brief Thrown by Trial::run when TrialConfig::time_limit_s has passed.
 class TimeLimitError : public Error {
 public:
@@ -106,6 +118,13 @@ struct TrialStep {
   double eval_ms = 0.0;
   std::size_t occupied_voxels = 0; ///< in the whole map after this view
   std::vector<LevelScore> scores;  ///< per evaluation level, in the Trial's order
+};
+
+/// \brief A frame as the trial integrated it (TrialConfig::depth_scale > 0: rounded).
+struct TrialFrame {
+  int index = 0;      ///< the view's index, 0 = v0
+  Pose T_W_O;         ///< the camera's optical frame, exactly as integrated
+  const DepthImage* depth = nullptr; ///< valid during the callback
 };
 
 /// \brief The outcome of Trial::run.
@@ -156,6 +175,14 @@ public:
     callback_ = std::move(callback);
   }
 
+  /// \brief Called with every frame after it is integrated, e.g. to write a frames
+  /// folder (io::FramesFolderWriter); with depth_scale > 0 the folder replays to the
+  /// trial's map bit for bit.
+  void setFrameCallback(std::function<void(const TrialFrame&)> callback)
+  {
+    frame_callback_ = std::move(callback);
+  }
+
   /// \brief Runs the trial from an empty map. \throws InvalidArgumentError if no plant
   /// was set; TimeLimitError after TrialConfig::time_limit_s; the modules' errors
   /// otherwise.
@@ -172,6 +199,7 @@ private:
   Roi attention_;
   std::vector<EvaluationLevel> levels_;
   std::function<void(const TrialStep&)> callback_;
+  std::function<void(const TrialFrame&)> frame_callback_;
   std::shared_ptr<OccupancyMap> map_;
   CylindricalSector sector_;
 };

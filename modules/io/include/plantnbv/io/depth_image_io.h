@@ -7,6 +7,9 @@
 #include <vector>
 
 namespace plantnbv {
+
+struct DepthImage;
+
 namespace io {
 
 /// \brief Writes a depth image (metres, row-major, NaN = no return) as a 16-bit grey PNG
@@ -20,10 +23,16 @@ void saveDepthPng(const std::string& path, std::uint32_t width, std::uint32_t he
                   const std::vector<float>& depth_m, double units_per_metre = 1000.0);
 
 /// \brief Reads a 16-bit grey PNG written by saveDepthPng back to metres (0 -> NaN).
+/// Units and rounding: depthToUnits / depthFromUnits (camera/depth_image.h).
 /// \throws IoError if the file is missing or unreadable, FormatError if it is not a
-/// 16-bit single-channel PNG.
+/// 16-bit single-channel PNG, is truncated or has a side over 16384 pixels.
 void loadDepthPng(const std::string& path, std::uint32_t& width, std::uint32_t& height,
                   std::vector<float>& depth_m, double units_per_metre = 1000.0);
+/// \brief As above, into a DepthImage; with an expected size (not 0), a PNG of another
+/// size is a FormatError before its pixels are allocated.
+void loadDepthPng(const std::string& path, DepthImage& depth,
+                  double units_per_metre = 1000.0, std::uint32_t expected_width = 0,
+                  std::uint32_t expected_height = 0);
 
 } // namespace io
 } // namespace plantnbv

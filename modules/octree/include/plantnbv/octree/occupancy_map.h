@@ -191,6 +191,17 @@ public:
   /// \brief Voxel counts (walks all leaves, O(tree size)).
   VoxelCounts countVoxels() const;
 
+  /// \brief A map read from an OctoMap file (readOcTree: .ot keeps every voxel's
+  /// log-odds; .bt holds occupied / free only, at the clamping bounds, so a planner sees
+  /// no uncertainty in it). The map takes `config` with the file's resolution; its inner
+  /// nodes are recomputed (the maximum of their children) and it is pruned, as `insert`
+  /// keeps them.
+  /// \param[out] maximum_likelihood if not null, whether the file was a .bt.
+  /// \throws IoError, FormatError as readOcTree; InvalidArgumentError if `config` with
+  /// the file's resolution is invalid.
+  static std::unique_ptr<OccupancyMap> read(const std::string& path, Config config,
+                                            bool* maximum_likelihood = nullptr);
+
   /// \brief Writes the map as .bt (occupied / free only) or .ot (full log-odds), by
   /// extension, for octovis and OctoMap's tools (plantnbv::writeOcTree).
   /// \throws IoError, FormatError as writeOcTree.

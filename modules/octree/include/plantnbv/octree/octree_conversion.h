@@ -47,10 +47,14 @@ std::unique_ptr<octomap::OcTree> cloudToOcTree(const CloudXYZ& cloud, double res
 /// \throws IoError if missing or unreadable; FormatError if it is not an OctoMap file
 /// or holds another tree type (e.g. a ColorOcTree).
 std::unique_ptr<octomap::OcTree> readOcTree(const std::string& path);
+/// \brief Whether `path` starts with the header of a .bt file (maximum likelihood);
+/// false for a .ot or any other file.
+bool isBinaryOcTreeFile(const std::string& path);
 
 /// \brief Writes .bt (writeBinaryConst) or .ot (write), by extension, as OctoMap's
 /// own tools (octovis, binvox2bt) read them; .bt stores occupied / free only (the tree
-/// itself is not changed). The extension is matched case-insensitively.
+/// itself is not changed). The extension is matched case-insensitively. The file is
+/// written as `path`.partial and renamed: an existing file is replaced whole or kept.
 /// \throws IoError if the file cannot be written; FormatError for another extension
 /// (checked before the file is created).
 void writeOcTree(const std::string& path, const octomap::OcTree& tree);

@@ -22,6 +22,7 @@ namespace scenario {
 /// camera: l515 | l515-640 | l515-320 | WxH:fx,fy,cx,cy
 /// noise: bool
 /// views: int
+/// depth_scale: number (depth units per metre; 0: the sensor's float depth)
 /// planner: nbv | predefined | random        pattern: 1-4
 /// stop_gain_bits: number                    seed: int
 /// time_limit_s: number (0: none)            memory_cap_gib: number (default 8)

@@ -10,30 +10,13 @@
 
 #include <plantnbv/common/pcl_fwd.h>
 #include <plantnbv/common/pose.h>
-#include <plantnbv/sensor/camera_intrinsics.h>
+#include <plantnbv/camera/camera_intrinsics.h>
+#include <plantnbv/camera/depth_image.h>
+#include <plantnbv/camera/optical_frame.h>
 #include <plantnbv/sensor/noise_model.h>
 #include <plantnbv/sensor/sensor_scene.h>
 
 namespace plantnbv {
-
-/// \brief A depth image: row-major, width x height, pixel (u, v) at v * width + u.
-struct DepthImage {
-  std::uint32_t width = 0;
-  std::uint32_t height = 0;
-  /// Depth (metres): z of the point in the optical frame (not the range along the ray),
-  /// as depth cameras report it; NaN where the pixel has no return.
-  std::vector<float> depth_m;
-
-  float at(std::uint32_t u, std::uint32_t v) const
-  {
-    return depth_m[std::size_t(v) * width + u];
-  }
-};
-
-/// \brief The optical frame (z forward, x right, y down) of a camera whose body frame
-/// (x forward, y left, z up: a plantnbv Viewpoint, the paper's Table 1) is T_W_C:
-/// T_W_O = T_W_C * R_C_O with R_C_O's columns (0,-1,0), (0,0,-1), (1,0,0).
-Pose opticalFrame(const Pose& T_W_C);
 
 /// \brief The simulated depth sensor: a PCL-style source of organized labelled clouds.
 ///

@@ -4,7 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <plantnbv/common/error.h>
-#include <plantnbv/sensor/camera_intrinsics.h>
+#include <plantnbv/camera/camera_intrinsics.h>
 
 using plantnbv::CameraIntrinsics;
 using plantnbv::InvalidArgumentError;

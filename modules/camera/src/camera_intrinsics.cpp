@@ -6,7 +6,7 @@
 #include <vector>
 
 #include <plantnbv/common/error.h>
-#include <plantnbv/sensor/camera_intrinsics.h>
+#include <plantnbv/camera/camera_intrinsics.h>
 
 namespace plantnbv {
 

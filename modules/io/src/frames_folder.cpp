@@ -1,0 +1,481 @@
+#include <plantnbv/io/frames_folder.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <limits>
+#include <sstream>
+
+#include <yaml-cpp/yaml.h>
+
+#include <plantnbv/common/error.h>
+#include <plantnbv/io/depth_image_io.h>
+#include <plantnbv/io/yaml_reader.h>
+
+#include "io_util.h"
+
+namespace plantnbv {
+namespace io {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+/// Text files of a folder are small; a larger one is not a frame list.
+constexpr std::uint64_t kMaxListBytes = std::uint64_t{256} << 20;
+
+/// A quaternion is normalized when its norm is this close to 1, refused otherwise.
+constexpr double kQuaternionNormTolerance = 1e-3;
+/// The norm of a normalized quaternion is 1 within this (its rounding: 1.5 epsilon seen).
+constexpr double kUnitNormRounding = 4 * std::numeric_limits<double>::epsilon();
+
+std::string inQuotes(const std::string& path)
+{
+  return "'" + path + "'";
+}
+
+[[noreturn]] void failLine(const std::string& path, std::size_t line,
+                           const std::string& message)
+{
+  throw FormatError(inQuotes(path) + " line " + std::to_string(line) + ": " + message);
+}
+
+/// The whitespace-separated fields of a line, or none for a blank or '#' line.
+std::vector<std::string> fieldsOf(const std::string& line)
+{
+  std::vector<std::string> fields;
+  std::istringstream in(line);
+  std::string field;
+  while (in >> field) {
+    if (fields.empty() && field[0] == '#')
+      return {};
+    fields.push_back(field);
+  }
+  return fields;
+}
+
+/// A whole field as a finite number, else a message naming it. An overflow reads as
+/// inf and is refused; an underflow (ERANGE with a subnormal or 0, such as the
+/// 4.9406564584124654e-324 that FramesFolderWriter writes) is the nearest double, kept.
+double finiteNumber(const std::string& path, std::size_t line, const std::string& field,
+                    const char* what)
+{
+  const char* begin = field.c_str();
+  char* end = nullptr;
+  const double value = std::strtod(begin, &end);
+  if (end == begin || *end != '\0')
+    failLine(path, line, std::string(what) + " '" + field + "' is not a number");
+  if (!std::isfinite(value))
+    failLine(path, line, std::string(what) + " '" + field + "' is not a finite number");
+  return value;
+}
+
+/// The lines of a small text file, refused over kMaxListBytes.
+std::vector<std::string> readLines(const std::string& path)
+{
+  InputLimits limits = defaultInputLimits();
+  if (limits.max_file_bytes == 0 || limits.max_file_bytes > kMaxListBytes)
+    limits.max_file_bytes = kMaxListBytes;
+  std::istringstream in(detail::readFileToString(path, limits));
+  std::vector<std::string> lines;
+  std::string line;
+  while (std::getline(in, line)) {
+    if (!line.empty() && line.back() == '\r')
+      line.pop_back();
+    lines.push_back(line);
+  }
+  return lines;
+}
+
+void readPinholeMatrix(const YamlReader& reader, const YAML::Node& node,
+                       const std::string& path, CameraIntrinsics& K)
+{
+  std::vector<double> data;
+  reader.forEach(node, path,
+                 {{"rows",
+                   [&](const YAML::Node& v, const std::string& p) {
+                     if (reader.read<int>(v, p, "an integer") != 3)
+                       reader.fail(p, "expected 3, got " + YamlReader::describe(v));
+                   }},
+                  {"cols",
+                   [&](const YAML::Node& v, const std::string& p) {
+                     if (reader.read<int>(v, p, "an integer") != 3)
+                       reader.fail(p, "expected 3, got " + YamlReader::describe(v));
+                   }},
+                  {"data", [&](const YAML::Node& v, const std::string& p) {
+                     data = reader.readNumbers(v, p, 9);
+                   }}});
+  const std::string data_path = YamlReader::child(path, "data");
+  if (data.empty())
+    reader.fail(data_path, "missing (the 9 numbers fx, 0, cx, 0, fy, cy, 0, 0, 1)");
+  if (data[1] != 0.0 || data[3] != 0.0 || data[6] != 0.0 || data[7] != 0.0 ||
+      data[8] != 1.0)
+    reader.fail(data_path, "expected a pinhole matrix [fx, 0, cx, 0, fy, cy, 0, 0, 1], got " +
+                               YamlReader::describe(node["data"]));
+  K.fx = data[0];
+  K.cx = data[2];
+  K.fy = data[4];
+  K.cy = data[5];
+}
+
+void readDistortion(const YamlReader& reader, const YAML::Node& node,
+                    const std::string& path)
+{
+  const auto ignoreInt = [&](const YAML::Node& v, const std::string& p) {
+    reader.read<int>(v, p, "an integer");
+  };
+  reader.forEach(node, path,
+                 {{"rows", ignoreInt},
+                  {"cols", ignoreInt},
+                  {"data", [&](const YAML::Node& v, const std::string& p) {
+                     const std::vector<double> k =
+                         reader.readList<double>(v, p, "numbers");
+                     for (double c : k)
+                       if (c != 0.0)
+                         reader.fail(p, "non-zero distortion " + YamlReader::describe(v) +
+                                            ": rectify the depth images first (aligned "
+                                            "depth streams are rectified) and give zero "
+                                            "coefficients");
+                   }}});
+}
+
+/// Whether `file` is a relative path that stays inside its folder.
+bool staysInside(const std::string& file)
+{
+  const fs::path p(file);
+  if (p.is_absolute() || p.has_root_name())
+    return false;
+  for (const fs::path& part : p)
+    if (part == "..")
+      return false;
+  return true;
+}
+
+std::string formatStamp(double stamp_s)
+{
+  std::ostringstream s;
+  s << std::fixed << std::setprecision(6) << stamp_s;
+  return s.str();
+}
+
+} // namespace
+
+CameraInfo readCameraInfo(const std::string& path)
+{
+  const YamlReader reader(path);
+  const YAML::Node root = reader.parse(YamlReader::readText(path));
+  CameraInfo info;
+  CameraIntrinsics& K = info.intrinsics;
+  bool width = false, height = false, matrix = false;
+  const auto ignore = [](const YAML::Node&, const std::string&) {};
+  const auto readSide = [&](bool& seen, std::uint32_t& side) {
+    return [&](const YAML::Node& v, const std::string& p) {
+      const long long n = reader.read<long long>(v, p, "an integer");
+      if (n < 1 || n > 16384)
+        reader.fail(p, "expected 1 to 16384 pixels, got " + YamlReader::describe(v));
+      side = static_cast<std::uint32_t>(n);
+      seen = true;
+    };
+  };
+  reader.forEach(
+      root, "",
+      {{"image_width", readSide(width, K.width)},
+       {"image_height", readSide(height, K.height)},
+       {"camera_matrix",
+        [&](const YAML::Node& v, const std::string& p) {
+          readPinholeMatrix(reader, v, p, K);
+          matrix = true;
+        }},
+       {"distortion_model",
+        [&](const YAML::Node& v, const std::string& p) {
+          info.distortion_model = reader.read<std::string>(v, p, "a name");
+        }},
+       {"distortion_coefficients",
+        [&](const YAML::Node& v, const std::string& p) { readDistortion(reader, v, p); }},
+       {"depth_scale",
+        [&](const YAML::Node& v, const std::string& p) {
+          info.depth_scale = reader.read<double>(v, p, "a number");
+          if (!(info.depth_scale > 0.0) || !std::isfinite(info.depth_scale))
+            reader.fail(p, "expected units per metre > 0 (1000: millimetres), got " +
+                               YamlReader::describe(v));
+        }},
+       {"camera_name", ignore},
+       {"rectification_matrix", ignore},
+       {"projection_matrix", ignore},
+       {"binning_x", ignore},
+       {"binning_y", ignore},
+       {"roi", ignore}});
+  if (!width)
+    reader.fail("image_width", "missing");
+  if (!height)
+    reader.fail("image_height", "missing");
+  if (!matrix)
+    reader.fail("camera_matrix", "missing (rows: 3, cols: 3, data: [fx, 0, cx, 0, fy, cy, "
+                                 "0, 0, 1])");
+  try {
+    K.validate();
+  } catch (const InvalidArgumentError& e) {
+    reader.fail("camera_matrix", e.what());
+  }
+  return info;
+}
+
+void writeCameraInfo(const std::string& path, const CameraInfo& info)
+{
+  const CameraIntrinsics& K = info.intrinsics;
+  std::ofstream out(path);
+  out << std::setprecision(17);
+  out << "# ROS camera_info (as camera_calibration writes it) + depth_scale (plantnbv)\n"
+      << "image_width: " << K.width << "\nimage_height: " << K.height
+      << "\ncamera_name: depth\ncamera_matrix:\n  rows: 3\n  cols: 3\n  data: [" << K.fx
+      << ", 0, " << K.cx << ", 0, " << K.fy << ", " << K.cy << ", 0, 0, 1]\n"
+      << "distortion_model: " << info.distortion_model
+      << "\ndistortion_coefficients:\n  rows: 1\n  cols: 5\n  data: [0, 0, 0, 0, 0]\n"
+      << "rectification_matrix:\n  rows: 3\n  cols: 3\n  data: [1, 0, 0, 0, 1, 0, 0, 0, 1]\n"
+      << "projection_matrix:\n  rows: 3\n  cols: 4\n  data: [" << K.fx << ", 0, " << K.cx
+      << ", 0, 0, " << K.fy << ", " << K.cy << ", 0, 0, 0, 1, 0]\n"
+      << "depth_scale: " << info.depth_scale << "\n";
+  out.close();
+  if (!out)
+    throw IoError("cannot write " + inQuotes(path));
+}
+
+std::vector<StampedFile> readTumFileList(const std::string& path)
+{
+  std::vector<StampedFile> files;
+  const std::vector<std::string> lines = readLines(path);
+  for (std::size_t i = 0; i < lines.size(); ++i) {
+    const std::vector<std::string> fields = fieldsOf(lines[i]);
+    if (fields.empty())
+      continue;
+    const std::size_t line = i + 1;
+    if (fields.size() != 2)
+      failLine(path, line,
+               "expected 'timestamp filename', got " + std::to_string(fields.size()) +
+                   " fields");
+    StampedFile f;
+    f.stamp_s = finiteNumber(path, line, fields[0], "timestamp");
+    f.file = fields[1];
+    f.line = line;
+    if (!staysInside(f.file))
+      failLine(path, line,
+               "'" + f.file + "' must be a path inside the folder (relative, no '..')");
+    files.push_back(f);
+  }
+  return files;
+}
+
+std::vector<StampedPose> readTumTrajectory(const std::string& path)
+{
+  std::vector<StampedPose> poses;
+  const std::vector<std::string> lines = readLines(path);
+  static const char* kNames[] = {"timestamp", "tx", "ty", "tz", "qx", "qy", "qz", "qw"};
+  for (std::size_t i = 0; i < lines.size(); ++i) {
+    const std::vector<std::string> fields = fieldsOf(lines[i]);
+    if (fields.empty())
+      continue;
+    const std::size_t line = i + 1;
+    if (fields.size() != 8)
+      failLine(path, line,
+               "expected 8 numbers 'timestamp tx ty tz qx qy qz qw', got " +
+                   std::to_string(fields.size()));
+    double v[8];
+    for (int k = 0; k < 8; ++k)
+      v[k] = finiteNumber(path, line, fields[std::size_t(k)], kNames[k]);
+    const Eigen::Quaterniond q(v[7], v[4], v[5], v[6]);
+    const double norm = q.norm();
+    if (!(std::abs(norm - 1.0) <= kQuaternionNormTolerance))
+      failLine(path, line,
+               "quaternion (" + fields[4] + ", " + fields[5] + ", " + fields[6] + ", " +
+                   fields[7] + ") has norm " + detail::numberText(norm) +
+                   ", expected a unit quaternion (within 1e-3)");
+    StampedPose p;
+    p.stamp_s = v[0];
+    p.pose = Pose(Eigen::Vector3d(v[1], v[2], v[3]), q); // normalizes
+    // A quaternion that is a unit one to double precision (FramesFolderWriter's, 17
+    // digits) is kept as written: normalizing it again moves its last bits in a third of
+    // cases, and a replayed folder would not give the poses it was written with.
+    if (std::abs(norm - 1.0) <= kUnitNormRounding)
+      p.pose.orientation = q;
+    p.line = line;
+    poses.push_back(p);
+  }
+  return poses;
+}
+
+FramesFolder::FramesFolder(const std::string& folder, const FramesFolderOptions& options)
+    : folder_(folder)
+{
+  std::error_code ec;
+  if (!fs::is_directory(folder, ec))
+    throw IoError(inQuotes(folder) + ": no such folder (a frames folder: camera.yaml, "
+                                   "depth.txt, groundtruth.txt, depth/)");
+  const fs::path dir(folder);
+  const std::string camera_path = (dir / "camera.yaml").string();
+  if (!fs::exists(camera_path, ec))
+    throw IoError(inQuotes(camera_path) + ": no such file (the camera's calibration, ROS "
+                                        "camera_info YAML)");
+  camera_ = readCameraInfo(camera_path);
+  if (options.depth_scale != 0.0) {
+    if (!(options.depth_scale > 0.0) || !std::isfinite(options.depth_scale))
+      throw InvalidArgumentError("depth scale must be > 0 units per metre, got " +
+                                 detail::numberText(options.depth_scale));
+    camera_.depth_scale = options.depth_scale;
+  }
+  const std::string list_path = (dir / "depth.txt").string();
+  if (!fs::exists(list_path, ec))
+    throw IoError(inQuotes(list_path) + ": no such file (\"timestamp filename\" per frame)");
+  std::string poses_path = (dir / "groundtruth.txt").string();
+  if (!fs::exists(poses_path, ec))
+    poses_path = (dir / "poses.txt").string();
+  if (!fs::exists(poses_path, ec))
+    throw IoError(inQuotes((dir / "groundtruth.txt").string()) +
+                  ": no such file, nor poses.txt (\"timestamp tx ty tz qx qy qz qw\" per "
+                  "pose)");
+  const std::vector<StampedFile> files = readTumFileList(list_path);
+  std::vector<StampedPose> poses = readTumTrajectory(poses_path);
+  if (files.empty())
+    throw FormatError(inQuotes(list_path) + ": lists no frame");
+  std::stable_sort(poses.begin(), poses.end(),
+                   [](const StampedPose& a, const StampedPose& b) {
+                     return a.stamp_s < b.stamp_s;
+                   });
+  for (const StampedFile& f : files) {
+    // The nearest pose: the first at or after the stamp, or the one before it.
+    const auto after = std::lower_bound(
+        poses.begin(), poses.end(), f.stamp_s,
+        [](const StampedPose& p, double stamp) { return p.stamp_s < stamp; });
+    const StampedPose* best = nullptr;
+    if (after != poses.end())
+      best = &*after;
+    if (after != poses.begin() &&
+        (!best || f.stamp_s - std::prev(after)->stamp_s <= best->stamp_s - f.stamp_s))
+      best = &*std::prev(after);
+    const double dt = best ? std::abs(best->stamp_s - f.stamp_s) : INFINITY;
+    if (!(dt <= options.max_pose_dt_s)) {
+      if (options.skip_unmatched) {
+        ++skipped_;
+        continue;
+      }
+      std::ostringstream s;
+      s << "frame '" << f.file << "' (" << formatStamp(f.stamp_s) << " s) has no pose in "
+        << inQuotes(poses_path) << " within " << options.max_pose_dt_s << " s";
+      if (best)
+        s << " (nearest " << formatStamp(best->stamp_s) << " s)";
+      s << "; --skip-unmatched skips such frames";
+      failLine(list_path, f.line, s.str());
+    }
+    FrameRecord r;
+    r.stamp_s = f.stamp_s;
+    r.depth_path = (dir / f.file).string();
+    r.T_W_O = best->pose;
+    r.pose_dt_s = dt;
+    frames_.push_back(r);
+  }
+  if (frames_.empty())
+    throw FormatError(inQuotes(list_path) + ": none of its " + std::to_string(files.size()) +
+                      " frames has a pose within " + detail::numberText(options.max_pose_dt_s) +
+                      " s in " + inQuotes(poses_path));
+}
+
+void FramesFolder::loadDepth(std::size_t i, DepthImage& depth) const
+{
+  const FrameRecord& frame = frames_.at(i);
+  const CameraIntrinsics& K = camera_.intrinsics;
+  // The size is checked from the header, before the pixels are allocated.
+  loadDepthPng(frame.depth_path, depth, camera_.depth_scale, K.width, K.height);
+}
+
+FramesFolderWriter::FramesFolderWriter(const std::string& folder, const CameraInfo& camera)
+    : folder_(folder), camera_(camera)
+{
+  camera_.intrinsics.validate();
+  if (!(camera_.depth_scale > 0.0) || !std::isfinite(camera_.depth_scale))
+    throw InvalidArgumentError("depth scale must be > 0 units per metre, got " +
+                               detail::numberText(camera_.depth_scale));
+  const fs::path dir(folder);
+  std::error_code ec;
+  fs::create_directories(dir / "depth", ec);
+  if (ec)
+    throw IoError("cannot create the frames folder " + inQuotes(folder) + ": " +
+                  ec.message());
+  const std::string camera_path = (dir / "camera.yaml").string();
+  if (fs::exists(camera_path, ec)) {
+    const CameraInfo there = readCameraInfo(camera_path);
+    const CameraIntrinsics &a = there.intrinsics, &b = camera_.intrinsics;
+    if (a.width != b.width || a.height != b.height || a.fx != b.fx || a.fy != b.fy ||
+        a.cx != b.cx || a.cy != b.cy || there.depth_scale != camera_.depth_scale)
+      throw FormatError(inQuotes(camera_path) + " describes another camera (" +
+                        a.toString() + ", depth_scale " +
+                        detail::numberText(there.depth_scale) +
+                        "): write these frames to a new folder");
+  } else {
+    writeCameraInfo(camera_path, camera_);
+  }
+  const std::string list_path = (dir / "depth.txt").string();
+  if (fs::exists(list_path, ec))
+    for (const StampedFile& f : readTumFileList(list_path)) {
+      ++count_;
+      last_stamp_s_ = std::max(last_stamp_s_, f.stamp_s);
+    }
+}
+
+void FramesFolderWriter::append(const DepthImage& depth, const Pose& T_W_O, double stamp_s)
+{
+  const CameraIntrinsics& K = camera_.intrinsics;
+  if (depth.width != K.width || depth.height != K.height)
+    throw InvalidArgumentError("FramesFolderWriter: a " + std::to_string(depth.width) +
+                               "x" + std::to_string(depth.height) + " frame for a " +
+                               std::to_string(K.width) + "x" + std::to_string(K.height) +
+                               " camera");
+  if (std::isnan(stamp_s))
+    stamp_s = count_ == 0 ? 0.0 : last_stamp_s_ + 1.0;
+  if (!std::isfinite(stamp_s) || (count_ > 0 && !(stamp_s > last_stamp_s_)))
+    throw InvalidArgumentError("FramesFolderWriter: stamp " + formatStamp(stamp_s) +
+                               " s is not after the folder's last frame (" +
+                               formatStamp(last_stamp_s_) + " s)");
+  const fs::path dir(folder_);
+  char name[32];
+  std::snprintf(name, sizeof(name), "depth/%06zu.png", count_);
+  const std::string png_path = (dir / name).string();
+  std::error_code ec;
+  if (fs::exists(png_path, ec))
+    throw IoError(inQuotes(png_path) + " exists but depth.txt does not list it: refusing to "
+                                     "overwrite it");
+  saveDepthPng(png_path, depth.width, depth.height, depth.depth_m, camera_.depth_scale);
+
+  const auto appendLine = [&](const std::string& file, const char* header,
+                              const std::string& line) {
+    const std::string path = (dir / file).string();
+    const bool fresh = !fs::exists(path, ec);
+    std::ofstream out(path, std::ios::app);
+    if (fresh)
+      out << header;
+    out << line << '\n';
+    out.close();
+    if (!out)
+      throw IoError("cannot append to " + inQuotes(path));
+  };
+  const std::string stamp = formatStamp(stamp_s);
+  const Eigen::Vector3d& t = T_W_O.position;
+  const Eigen::Quaterniond& q = T_W_O.orientation;
+  std::ostringstream pose;
+  pose << stamp << std::setprecision(17) << ' ' << t.x() << ' ' << t.y() << ' ' << t.z()
+       << ' ' << q.x() << ' ' << q.y() << ' ' << q.z() << ' ' << q.w();
+  appendLine("groundtruth.txt",
+             "# T_W_O: the depth camera's optical frame (z forward, x right, y down) in "
+             "the world (z up)\n# timestamp tx ty tz qx qy qz qw\n",
+             pose.str());
+  appendLine("depth.txt", "# depth images (16-bit PNG, depth_scale units per metre in "
+                          "camera.yaml)\n# timestamp filename\n",
+             stamp + ' ' + name);
+  ++count_;
+  last_stamp_s_ = stamp_s;
+}
+
+} // namespace io
+} // namespace plantnbv
