@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <sstream>
 
 #include <octomap/AbstractOcTree.h>
@@ -203,28 +204,48 @@ std::unique_ptr<octomap::OcTree> readOcTree(const std::string& path)
   // The content decides, not the extension: .bt and .ot start with their own header.
   std::string first_line;
   std::getline(in, first_line);
-  in.clear();
-  in.seekg(0);
-  if (startsWith(first_line, kBinaryHeader)) {
-    auto tree = std::make_unique<octomap::OcTree>(0.1); // readBinary sets the resolution
-    if (!tree->readBinary(in))
-      throw FormatError("'" + path + "' is not a valid OctoMap binary (.bt) file");
-    if (in.bad())
-      throw IoError("error while reading octree file '" + path + "'");
-    return tree;
-  }
-  if (startsWith(first_line, kFullHeader)) {
-    std::unique_ptr<octomap::AbstractOcTree> abstract(octomap::AbstractOcTree::read(in));
-    if (!abstract)
-      throw FormatError("'" + path + "' is not a valid OctoMap (.ot) file");
-    if (in.bad())
-      throw IoError("error while reading octree file '" + path + "'");
-    auto* tree = dynamic_cast<octomap::OcTree*>(abstract.get());
-    if (!tree)
-      throw FormatError("'" + path + "' holds an OctoMap " + abstract->getTreeType() +
+  const bool binary = startsWith(first_line, kBinaryHeader);
+  if (binary || startsWith(first_line, kFullHeader)) {
+    // The rest of OctoMap's header (AbstractOcTree::readHeader), read here because the
+    // library's readers print to stdout and stderr: "id", "size", "res", comments,
+    // "data"; then the nodes, in OctoMap's binary or full layout.
+    const char* kind = binary ? "binary (.bt)" : "(.ot)";
+    std::string id, token;
+    double res = 0.0;
+    while (in >> token) {
+      if (token == "data") {
+        in.ignore(std::numeric_limits<std::streamsize>::max(), '\n'); // rest of the line
+        break;
+      }
+      if (token == "id")
+        in >> id;
+      else if (token == "res")
+        in >> res;
+      else {
+        std::string rest;
+        std::getline(in, rest); // "size", comments and unknown lines
+      }
+    }
+    if (!in || token != "data")
+      throw FormatError("'" + path + "' is not a valid OctoMap " + kind +
+                        " file: its header has no 'data' line");
+    if (id != "OcTree")
+      throw FormatError("'" + path + "' holds an OctoMap " + (id.empty() ? "?" : id) +
                         ", expected an OcTree");
-    abstract.release();
-    return std::unique_ptr<octomap::OcTree>(tree);
+    if (!(res > 0.0) || !std::isfinite(res))
+      throw FormatError("'" + path + "' has resolution " + std::to_string(res) +
+                        ", expected a finite value > 0");
+    auto tree = std::make_unique<octomap::OcTree>(res);
+    if (binary)
+      tree->readBinaryData(in);
+    else
+      tree->readData(in);
+    if (in.bad())
+      throw IoError("error while reading octree file '" + path + "'");
+    if (in.fail())
+      throw FormatError("'" + path + "' is truncated or not a valid OctoMap " +
+                        std::string(kind) + " file");
+    return tree;
   }
   throw FormatError("'" + path + "' is not an OctoMap file (expected the header '" +
                     kBinaryHeader + "' or '" + kFullHeader + "')");
