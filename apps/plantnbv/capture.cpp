@@ -86,8 +86,8 @@ void runCapture(const CaptureOptions& o)
   SimulatedDepthSensor sensor(parseCameraIntrinsics(o.intrinsics));
   std::optional<io::FramesFolderWriter> frames;
   if (!o.frames_out.empty())
-    frames.emplace(o.frames_out, framesCamera(o.frames_out, sensor.getIntrinsics(),
-                                              o.depth_scale));
+    frames.emplace(o.frames_out,
+                   framesCamera(o.frames_out, sensor.getIntrinsics(), o.depth_scale));
   if (o.noise) {
     NoiseConfig noise;
     noise.enabled = true;
@@ -115,10 +115,11 @@ void runCapture(const CaptureOptions& o)
     }
   const CameraIntrinsics& K = sensor.getIntrinsics();
   std::cout << std::fixed << std::setprecision(1) << placed.plant.name << " ("
-            << placed.description << "), " << K.width << "x" << K.height << " view: "
-            << returns << " returns (" << returns - background << " on the plant, "
-            << background << " on floor and support) of " << cloud.size()
-            << " pixels; scene " << scene_ms << " ms, capture " << capture_ms << " ms\n";
+            << placed.description << "), " << K.width << "x" << K.height
+            << " view: " << returns << " returns (" << returns - background
+            << " on the plant, " << background << " on floor and support) of "
+            << cloud.size() << " pixels; scene " << scene_ms << " ms, capture "
+            << capture_ms << " ms\n";
 
   if (!o.output.empty()) {
     io::saveCloud(o.output, cloud);
@@ -157,8 +158,9 @@ void addCaptureCommand(CLI::App& app)
 {
   auto o = std::make_shared<CaptureOptions>();
   CLI::App* cmd = app.add_subcommand(
-      "capture", "Render one depth view of a plant (organized labelled cloud in the world "
-                 "frame); optionally its depth image and an occupancy map of it");
+      "capture",
+      "Render one depth view of a plant (organized labelled cloud in the world "
+      "frame); optionally its depth image and an occupancy map of it");
   addPlantOptions(*cmd, o->plant, "--plant");
   cmd->add_option("--pose", o->pose,
                   "Camera body pose x,y,z,qx,qy,qz,qw (x forward, z up; default: the "
@@ -182,13 +184,15 @@ void addCaptureCommand(CLI::App& app)
                 "Leave out the floor and the support under the plant");
   cmd->add_option("-o,--output", o->output, "Cloud file (.pcd or .ply)");
   cmd->add_option("--depth", o->depth, "Also write the depth image (16-bit PNG, mm)");
-  cmd->add_option("--map", o->map, "Also insert the view into a new map, write .bt or .ot");
+  cmd->add_option("--map", o->map,
+                  "Also insert the view into a new map, write .bt or .ot");
   cmd->add_option("--frames-out", o->frames_out,
                   "Append the frame to this frames folder (depth PNG, pose, camera.yaml; "
                   "docs/real-robot.md)");
-  cmd->add_option("--depth-scale", o->depth_scale,
-                  "Depth PNG units per metre of --frames-out (default: the folder's, else "
-                  "1000)")
+  cmd->add_option(
+         "--depth-scale", o->depth_scale,
+         "Depth PNG units per metre of --frames-out (default: the folder's, else "
+         "1000)")
       ->needs("--frames-out");
   cmd->add_option("--stamp", o->stamp,
                   "Timestamp of the frame in seconds (default: the folder's last + 1)")

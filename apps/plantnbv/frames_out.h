@@ -4,6 +4,7 @@
 
 #include <filesystem>
 #include <optional>
+#include <sstream>
 #include <string>
 
 #include <plantnbv/camera/camera_intrinsics.h>
@@ -12,6 +13,14 @@
 
 namespace plantnbv {
 namespace app {
+
+/// A number as a user typed it ("1000", "0.5"), for messages.
+inline std::string numberText(double value)
+{
+  std::ostringstream s;
+  s << value;
+  return s.str();
+}
 
 /// The camera that frames of `intrinsics` get in `folder`: the depth scale given, else
 /// that of the folder's camera.yaml, else 1000 (millimetres).
@@ -28,7 +37,7 @@ inline io::CameraInfo framesCamera(const std::string& folder,
   else if (std::filesystem::exists(yaml, ec))
     camera.depth_scale = io::readCameraInfo(yaml).depth_scale;
   if (!(camera.depth_scale > 0.0))
-    throw InvalidArgumentError("--depth-scale " + std::to_string(camera.depth_scale) +
+    throw InvalidArgumentError("--depth-scale " + numberText(camera.depth_scale) +
                                ": expected units per metre > 0 (1000: millimetres)");
   return camera;
 }

@@ -21,6 +21,7 @@
 #include <plantnbv/session/active_vision_session.h>
 
 #include "commands.h"
+#include "frames_out.h"
 #include "map_file.h"
 
 namespace plantnbv {
@@ -100,12 +101,13 @@ void runIntegrate(const IntegrateOptions& o)
   folder_options.skip_unmatched = o.skip_unmatched;
   if (o.depth_scale) {
     if (!(*o.depth_scale > 0.0))
-      throw InvalidArgumentError("--depth-scale " + std::to_string(*o.depth_scale) +
+      throw InvalidArgumentError("--depth-scale " + numberText(*o.depth_scale) +
                                  ": expected units per metre > 0 (1000: millimetres)");
     folder_options.depth_scale = *o.depth_scale;
   }
   const io::FramesFolder folder(o.frames, folder_options);
-  const std::vector<std::size_t> selected = selectFrames(o.frame_list, folder.frames().size());
+  const std::vector<std::size_t> selected =
+      selectFrames(o.frame_list, folder.frames().size());
   const io::CameraInfo& camera = folder.camera();
 
   ActiveVisionSession session(sessionConfigOf(config));
@@ -124,12 +126,12 @@ void runIntegrate(const IntegrateOptions& o)
   std::cout << "frames folder '" << o.frames << "': " << folder.frames().size()
             << " frames";
   if (folder.skippedFrames() > 0)
-    std::cout << " (" << folder.skippedFrames() << " without a pose within 0.02 s skipped)";
+    std::cout << " (" << folder.skippedFrames()
+              << " without a pose within 0.02 s skipped)";
   std::cout << ", camera " << camera.intrinsics.toString() << ", depth_scale "
             << camera.depth_scale << "; map " << map.getConfig().resolution_m * 1000.0
             << " mm, max range " << map.getConfig().max_range_m << " m"
-            << (o.map_in.empty() ? std::string(", new")
-                                 : ", onto '" + o.map_in + "'")
+            << (o.map_in.empty() ? std::string(", new") : ", onto '" + o.map_in + "'")
             << "\n";
 
   Stopwatch total_clock;
@@ -176,11 +178,13 @@ void addIntegrateCommand(CLI::App& app)
                    "groundtruth.txt, depth/*.png; docs/real-robot.md) into an occupancy "
                    "map and write it");
   cmd->add_option("frames", o->frames, "Frames folder")->required();
-  cmd->add_option("-o,--output", o->output,
-                  "Map to write: .ot (log-odds, what `plan` needs) or .bt (occupied / free "
-                  "only)")
+  cmd->add_option(
+         "-o,--output", o->output,
+         "Map to write: .ot (log-odds, what `plan` needs) or .bt (occupied / free "
+         "only)")
       ->required();
-  cmd->add_option("--map-in", o->map_in, "Start from this map (.ot) instead of an empty one");
+  cmd->add_option("--map-in", o->map_in,
+                  "Start from this map (.ot) instead of an empty one");
   cmd->add_option("--config", o->config_file,
                   "Trial config (YAML, e.g. data/paper.yaml) for the map's parameters");
   cmd->add_option("--resolution", o->resolution, "Voxel size in metres (0.003)");
@@ -188,8 +192,9 @@ void addIntegrateCommand(CLI::App& app)
                   "Returns farther than this carve free space only (metres, 0.75)");
   cmd->add_option("--depth-scale", o->depth_scale,
                   "Depth PNG units per metre, instead of camera.yaml's depth_scale");
-  cmd->add_option("--frames", o->frame_list,
-                  "Only these frames: indices and ranges of depth.txt's frames, e.g. 0,2,5-7");
+  cmd->add_option(
+      "--frames", o->frame_list,
+      "Only these frames: indices and ranges of depth.txt's frames, e.g. 0,2,5-7");
   cmd->add_flag("--skip-unmatched", o->skip_unmatched,
                 "Skip frames with no pose within 0.02 s (default: an error)");
   cmd->add_option("--threads", o->threads, "Threads (default: all cores)");

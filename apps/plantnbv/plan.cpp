@@ -11,6 +11,7 @@
 
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
+#include <octomap/OcTree.h>
 
 #include <plantnbv/camera/optical_frame.h>
 #include <plantnbv/common/error.h>
@@ -23,8 +24,6 @@
 #include <plantnbv/scenario/trial_config_file.h>
 #include <plantnbv/scenario/trial_setup.h>
 #include <plantnbv/session/active_vision_session.h>
-
-#include <octomap/OcTree.h>
 
 #include "commands.h"
 #include "map_file.h"
@@ -77,7 +76,8 @@ Roi planRoi(const std::string& spec, const Eigen::Vector3d& axis_base)
     return mainStemRoi(axis);
   default:
     throw InvalidArgumentError(
-        "--roi " + spec + ": leaf nodes and fruit are where a plant's anatomy puts them; "
+        "--roi " + spec +
+        ": leaf nodes and fruit are where a plant's anatomy puts them; "
         "give them as an ROI file (YAML boxes, docs/real-robot.md), or whole_plant / "
         "main_stem for the boxes on the sector's axis");
   }
@@ -132,6 +132,9 @@ bool roiMeetsMap(const Roi& roi, const OccupancyMap& map)
 void runPlan(const PlanOptions& o)
 {
   requireMapExtension(o.map, "--map");
+  if (o.top < 0)
+    throw InvalidArgumentError("--top " + std::to_string(o.top) +
+                               ": expected K >= 0 (0: every candidate)");
   TrialConfig config;
   if (!o.config_file.empty())
     scenario::loadTrialConfig(o.config_file, config);
@@ -139,7 +142,8 @@ void runPlan(const PlanOptions& o)
   if (!o.sector_base.empty()) {
     if (o.sector_base.size() != 3)
       throw InvalidArgumentError("--sector-base needs 3 numbers x,y,z");
-    sector.axis_base = Eigen::Vector3d(o.sector_base[0], o.sector_base[1], o.sector_base[2]);
+    sector.axis_base =
+        Eigen::Vector3d(o.sector_base[0], o.sector_base[1], o.sector_base[2]);
   }
   if (o.sector_radius)
     sector.radius_m = *o.sector_radius;
@@ -236,18 +240,20 @@ void runPlan(const PlanOptions& o)
       << q.w();
     return s.str();
   };
-  std::cout << "map '" << o.map << "' (" << session.getMap()->getConfig().resolution_m * 1000.0
-            << " mm, read in " << std::fixed << std::setprecision(1) << read_ms
-            << " ms), ROI " << o.roi << " (" << roi.boxes().size() << " boxes), "
-            << r.candidates.size() << " candidates, planned in " << r.total_ms
-            << " ms (snapshot " << r.update_ms << " ms)\n";
+  std::cout << "map '" << o.map << "' ("
+            << session.getMap()->getConfig().resolution_m * 1000.0 << " mm, read in "
+            << std::fixed << std::setprecision(1) << read_ms << " ms), ROI " << o.roi
+            << " (" << roi.boxes().size() << " boxes), " << r.candidates.size()
+            << " candidates, planned in " << r.total_ms << " ms (snapshot " << r.update_ms
+            << " ms)\n";
   if (!meets)
     std::cout << "note: the ROI lies outside the map's known volume\n";
   if (all_zero)
     std::cout << "note: " << zero_note << "\n";
   const RankedView& best = next.ranking.front();
   std::cout << "best view: candidate " << best.index << ", gain " << std::setprecision(1)
-            << best.gain.gain << " bits, " << best.gain.voxels_seen << " ROI voxels seen\n"
+            << best.gain.gain << " bits, " << best.gain.voxels_seen
+            << " ROI voxels seen\n"
             << "  optical pose (x y z qx qy qz qw, as groundtruth.txt): "
             << printPose(best.optical_pose) << "\n"
             << "  viewpoint (body frame, x forward, z up):             "
@@ -294,8 +300,9 @@ void addPlanCommand(CLI::App& app)
                   "The camera's optical pose now x,y,z,qx,qy,qz,qw (as groundtruth.txt)")
       ->delimiter(',')
       ->expected(7);
-  cmd->add_option("--travel-cost", o->travel_cost,
-                  "Bits per metre of travel from --current-pose subtracted from the gain");
+  cmd->add_option(
+      "--travel-cost", o->travel_cost,
+      "Bits per metre of travel from --current-pose subtracted from the gain");
   cmd->add_option("--camera", o->camera,
                   "The candidates' camera: camera.yaml, l515, l515-640, l515-320 or "
                   "WxH:fx,fy,cx,cy")

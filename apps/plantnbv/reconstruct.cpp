@@ -78,7 +78,8 @@ TrialConfig trialConfig(const ReconstructOptions& o, const PlacedPlant& placed)
   if (o.depth_scale)
     c.depth_scale = *o.depth_scale;
   else if (!o.frames_out.empty() && c.depth_scale == 0.0)
-    c.depth_scale = 1000.0; // frames replay to the map only if the trial rounds as PNGs do
+    c.depth_scale =
+        1000.0; // frames replay to the map only if the trial rounds as PNGs do
   scenario::fitSectorToPlant(placed, o.sector_height, c);
   c.validate();
   return c;
@@ -137,6 +138,7 @@ nlohmann::json summaryJson(const ReconstructOptions& o, const PlacedPlant& place
       {"seed", c.seed},
       {"camera", c.camera.toString()},
       {"noise", c.noise.enabled},
+      {"depth_scale", c.depth_scale},
       {"resolution", c.map.resolution_m},
       {"max_range", c.map.max_range_m},
       {"rays", {c.gain.rays_x, c.gain.rays_y}},
@@ -175,10 +177,14 @@ nlohmann::json summaryJson(const ReconstructOptions& o, const PlacedPlant& place
     insert += s.insert_ms;
     eval += s.eval_ms;
   }
-  j["totals"] = {{"views", r.steps.size()},        {"stopped_early", r.stopped_early},
-                 {"setup_ms", r.setup_ms},         {"plan_ms", plan},
-                 {"capture_ms", capture},          {"insert_ms", insert},
-                 {"eval_ms", eval},                {"total_ms", r.total_ms},
+  j["totals"] = {{"views", r.steps.size()},
+                 {"stopped_early", r.stopped_early},
+                 {"setup_ms", r.setup_ms},
+                 {"plan_ms", plan},
+                 {"capture_ms", capture},
+                 {"insert_ms", insert},
+                 {"eval_ms", eval},
+                 {"total_ms", r.total_ms},
                  {"occupied_voxels", r.steps.back().occupied_voxels}};
   return j;
 }
@@ -224,13 +230,6 @@ void runReconstruct(const ReconstructOptions& o)
     throw InvalidArgumentError(std::string("--attention: ") + e.what());
   }
   const Roi attention_roi = scenario::attentionRoi(placed, attention);
-  const std::filesystem::path dir(o.output_dir);
-  std::error_code ec;
-  std::filesystem::create_directories(dir, ec);
-  if (ec)
-    throw IoError("cannot create output directory '" + o.output_dir + "': " + ec.message());
-
-  Trial trial(config);
   std::optional<io::FramesFolderWriter> frames;
   if (!o.frames_out.empty()) {
     frames.emplace(o.frames_out,
@@ -240,18 +239,26 @@ void runReconstruct(const ReconstructOptions& o)
                                  std::to_string(frames->frameCount()) +
                                  " frames: give a new folder, so that it replays to "
                                  "this trial's map");
-    trial.setFrameCallback([&](const TrialFrame& f) {
-      frames->append(*f.depth, f.T_W_O, double(f.index));
-    });
   }
+  const std::filesystem::path dir(o.output_dir);
+  std::error_code ec;
+  std::filesystem::create_directories(dir, ec);
+  if (ec)
+    throw IoError("cannot create output directory '" + o.output_dir +
+                  "': " + ec.message());
+
+  Trial trial(config);
+  if (frames)
+    trial.setFrameCallback(
+        [&](const TrialFrame& f) { frames->append(*f.depth, f.T_W_O, double(f.index)); });
   const std::vector<EvaluationLevel> levels = scenario::evaluationLevels(placed);
   scenario::setUpTrial(placed, attention_roi, levels, trial);
-  std::cout << placed.plant.name << " (" << placed.description << "): "
-            << plannerKindName(config.planner)
+  std::cout << placed.plant.name << " (" << placed.description
+            << "): " << plannerKindName(config.planner)
             << (config.planner == PlannerKind::predefined
                     ? " pattern " + std::to_string(config.pattern)
-                    : config.planner == PlannerKind::nbv ? " attention " + attention.name()
-                                                          : std::string())
+                : config.planner == PlannerKind::nbv ? " attention " + attention.name()
+                                                     : std::string())
             << ", " << config.views << " views, "
             << config.grid_rows * config.grid_cols * config.samples_per_cell
             << " candidates, " << config.map.resolution_m * 1000.0 << " mm, seed "
@@ -267,8 +274,7 @@ void runReconstruct(const ReconstructOptions& o)
     line << std::setprecision(1) << ", capture " << s.capture_ms << " ms, insert "
          << s.insert_ms << " ms, eval " << s.eval_ms << " ms |";
     for (std::size_t l = 0; l < s.scores.size(); ++l)
-      line << " " << levels[l].name << " F1 " << std::setprecision(3)
-           << s.scores[l].f1;
+      line << " " << levels[l].name << " F1 " << std::setprecision(3) << s.scores[l].f1;
     std::cout << line.str() << std::endl;
   });
   TrialResult result;
@@ -293,7 +299,8 @@ void runReconstruct(const ReconstructOptions& o)
   }
   std::cout << " (- = not within " << result.steps.size() << " views)\n";
   std::cout << std::fixed << std::setprecision(0) << "trial in " << result.total_ms
-            << " ms (setup " << result.setup_ms << " ms); wrote " << (dir / "steps.csv").string()
+            << " ms (setup " << result.setup_ms << " ms); wrote "
+            << (dir / "steps.csv").string()
             << ", summary.json, map.bt, reconstruction.pcd (" << occupied.size()
             << " occupied voxels)";
   if (o.snapshot) {
@@ -316,9 +323,10 @@ void addReconstructCommand(CLI::App& app)
                   "Trial config (YAML, e.g. data/paper.yaml); options below override it");
   cmd->add_option("--planner", o->planner, "nbv, predefined or random (default nbv)");
   cmd->add_option("--pattern", o->pattern, "Pattern of the predefined planner, 1-4");
-  cmd->add_option("--attention", o->attention,
-                  "ROI of the NBV planner: whole_plant, main_stem, leaf_nodes, fruit ('-' "
-                  "for '_' works too) or an ROI file")
+  cmd->add_option(
+         "--attention", o->attention,
+         "ROI of the NBV planner: whole_plant, main_stem, leaf_nodes, fruit ('-' "
+         "for '_' works too) or an ROI file")
       ->capture_default_str();
   cmd->add_option("--views", o->views, "View budget, v0 included (default 10)");
   cmd->add_option("--candidates", o->candidates,
@@ -330,14 +338,16 @@ void addReconstructCommand(CLI::App& app)
   cmd->add_option("--seed", o->seed, "Seed of the trial (default 0)");
   cmd->add_option("--threads", o->threads, "Threads (default: all cores)");
   cmd->add_option("-o,--output", o->output_dir, "Output directory")->required();
-  cmd->add_option("--frames-out", o->frames_out,
-                  "Write every view's frame to this new frames folder (docs/real-robot.md); "
-                  "the trial then integrates depth rounded as the PNGs store it");
+  cmd->add_option(
+      "--frames-out", o->frames_out,
+      "Write every view's frame to this new frames folder (docs/real-robot.md); "
+      "the trial then integrates depth rounded as the PNGs store it");
   cmd->add_option("--depth-scale", o->depth_scale,
                   "Depth units per metre the trial rounds to (default 0: none; 1000 with "
                   "--frames-out)");
-  cmd->add_flag("--snapshot", o->snapshot,
-                "Also render DIR/snapshot.png: plant faded, occupied voxels, camera path");
+  cmd->add_flag(
+      "--snapshot", o->snapshot,
+      "Also render DIR/snapshot.png: plant faded, occupied voxels, camera path");
   cmd->callback([o]() { runReconstruct(*o); });
 }
 

@@ -1,6 +1,7 @@
 // The plantnbv tool as a user runs it: exit codes, one-line errors, and results.
 
 #include <algorithm>
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -20,6 +21,7 @@
 #include <pcl/point_types.h>
 
 #include <plantnbv/io/cloud_io.h>
+#include <plantnbv/io/frames_folder.h>
 #include <plantnbv/io/mesh_io.h>
 #include <plantnbv/io/roi_io.h>
 #include <plantnbv/octree/octree_conversion.h>
@@ -704,8 +706,8 @@ TEST_F(CliTest, CampaignReportReadsResultsOfTheFirstRelease)
   ASSERT_EQ(status.code, 0) << status.err;
   EXPECT_NE(status.out.find("8 trials, 8 done, 0 failed, 0 missing"), std::string::npos)
       << status.out;
-  const ToolRun report = run("campaign report " + dir.string() + " --no-figures -o " +
-                             path("report"));
+  const ToolRun report =
+      run("campaign report " + dir.string() + " --no-figures -o " + path("report"));
   ASSERT_EQ(report.code, 0) << report.err;
   EXPECT_EQ(slurp(path("report") + "/curves.csv"), slurp(fixture / "report-curves.csv"));
   EXPECT_EQ(slurp(path("report") + "/summary.md"), slurp(fixture / "report-summary.md"));
@@ -826,4 +828,217 @@ TEST_F(CliTest, CampaignSubmitDryRunWritesAnArrayThatCoversOnlyTheMissingTrials)
   ASSERT_EQ(none.code, 0) << none.err;
   EXPECT_NE(none.out.find("nothing to submit"), std::string::npos) << none.out;
   EXPECT_EQ(submitDirs(path("c")).size(), 2u);
+}
+
+// --- the real-robot loop: frames folders, integrate, plan (docs/real-robot.md) ---------
+
+namespace {
+
+/// Frames folders and maps of the real-robot loop.
+class RealRobotCliTest : public CliTest {
+protected:
+  /// One frame of plant 1 from the paper's v0 appended to FRAMES (`extra`: more options).
+  void capture(const std::string& frames, const std::string& extra = "") const
+  {
+    const ToolRun r = run("capture --plant 1 --frames-out " + path(frames) + " " + extra);
+    ASSERT_EQ(r.code, 0) << r.err;
+  }
+  void integrate(const std::string& frames, const std::string& map) const
+  {
+    const ToolRun r = run("integrate " + path(frames) + " -o " + path(map));
+    ASSERT_EQ(r.code, 0) << r.err;
+  }
+  /// plan's JSON.
+  nlohmann::json planJson(const std::string& args) const
+  {
+    const ToolRun r = run("plan " + args + " --json");
+    EXPECT_EQ(r.code, 0) << r.err;
+    const auto j = nlohmann::json::parse(r.out, nullptr, false);
+    EXPECT_FALSE(j.is_discarded()) << r.out;
+    return j;
+  }
+};
+
+/// The 7 numbers of a pose array; fails unless it is one.
+std::vector<double> poseNumbers(const nlohmann::json& pose)
+{
+  std::vector<double> v;
+  EXPECT_TRUE(pose.is_array()) << pose;
+  if (!pose.is_array())
+    return v;
+  EXPECT_EQ(pose.size(), 7u) << pose;
+  for (const auto& x : pose) {
+    EXPECT_TRUE(x.is_number()) << pose;
+    v.push_back(x.is_number() ? x.get<double>() : NAN);
+  }
+  return v;
+}
+
+} // namespace
+
+TEST_F(RealRobotCliTest, ReconstructFramesReplayToTheTrialsMapBitForBit)
+{
+  const ToolRun r = run("reconstruct --plant 1 --views 3 --threads 2 --frames-out " +
+                        path("F") + " -o " + path("D"));
+  ASSERT_EQ(r.code, 0) << r.err;
+  const plantnbv::io::FramesFolder folder(path("F"));
+  ASSERT_EQ(folder.frames().size(), 3u);
+  for (std::size_t i = 0; i < 3; ++i)
+    EXPECT_EQ(folder.frames()[i].stamp_s, double(i));
+  EXPECT_EQ(folder.camera().depth_scale, 1000.0);
+  EXPECT_NE(slurp(path("F/camera.yaml")).find("\ndepth_scale: 1000\n"),
+            std::string::npos);
+
+  integrate("F", "m.bt");
+  const std::string replayed = slurp(path("m.bt")), trial = slurp(path("D/map.bt"));
+  EXPECT_GT(trial.size(), 1000u);
+  EXPECT_EQ(replayed.size(), trial.size());
+  EXPECT_TRUE(replayed == trial) << "the replayed map differs from the trial's";
+}
+
+TEST_F(RealRobotCliTest, PlanRanksTheCandidatesAsJsonAndPrintsThePoseAlone)
+{
+  capture("F");
+  integrate("F", "m.ot");
+  const nlohmann::json j = planJson("--map " + path("m.ot"));
+  ASSERT_TRUE(j.contains("candidates") && j["candidates"].is_array()) << j;
+  const nlohmann::json& c = j["candidates"];
+  ASSERT_EQ(c.size(), 27u);
+  EXPECT_EQ(j["best"], c[0]);
+  EXPECT_EQ(j["all_gains_zero"], false);
+  EXPECT_EQ(j["roi_meets_map"], true);
+  std::set<std::size_t> indices;
+  for (std::size_t i = 0; i < c.size(); ++i) {
+    SCOPED_TRACE("candidate " + std::to_string(i));
+    for (const char* key : {"index", "gain", "voxels_seen", "optical_pose", "viewpoint"})
+      ASSERT_TRUE(c[i].contains(key)) << key << " missing in " << c[i];
+    indices.insert(c[i]["index"].get<std::size_t>());
+    EXPECT_GT(c[i]["gain"].get<double>(), 0.0);
+    EXPECT_GT(c[i]["voxels_seen"].get<std::size_t>(), 0u);
+    const std::vector<double> q = poseNumbers(c[i]["optical_pose"]);
+    ASSERT_EQ(q.size(), 7u);
+    EXPECT_NEAR(std::sqrt(q[3] * q[3] + q[4] * q[4] + q[5] * q[5] + q[6] * q[6]), 1.0,
+                1e-12);
+    EXPECT_EQ(poseNumbers(c[i]["viewpoint"]).size(), 7u);
+    if (i >= 2) { // non-increasing after the first
+      EXPECT_GE(c[i - 1]["gain"].get<double>(), c[i]["gain"].get<double>());
+    }
+    EXPECT_GE(c[0]["gain"].get<double>(), c[i]["gain"].get<double>()); // no travel cost
+  }
+  EXPECT_EQ(indices.size(), 27u);
+  EXPECT_EQ(*indices.rbegin(), 26u);
+
+  const nlohmann::json top = planJson("--map " + path("m.ot") + " --top 2");
+  ASSERT_EQ(top["candidates"].size(), 2u);
+  EXPECT_EQ(top["candidates"][0], c[0]);
+  EXPECT_EQ(top["candidates"][1], c[1]);
+
+  // --pose-only: the 7 numbers of best.optical_pose, exactly (17 digits), one line.
+  const ToolRun pose = run("plan --map " + path("m.ot") + " --pose-only");
+  ASSERT_EQ(pose.code, 0) << pose.err;
+  ASSERT_EQ(std::count(pose.out.begin(), pose.out.end(), '\n'), 1) << pose.out;
+  ASSERT_EQ(pose.out.back(), '\n');
+  std::vector<double> printed;
+  std::istringstream fields(pose.out.substr(0, pose.out.size() - 1));
+  for (std::string f; std::getline(fields, f, ',');) {
+    std::size_t used = 0;
+    printed.push_back(std::stod(f, &used));
+    EXPECT_EQ(used, f.size()) << "'" << f << "' in " << pose.out;
+  }
+  EXPECT_EQ(printed, poseNumbers(j["best"]["optical_pose"])) << pose.out;
+}
+
+TEST_F(RealRobotCliTest, PlanOnAnRoiNoCandidateReachesSaysEveryGainIsZero)
+{
+  capture("F");
+  integrate("F", "m.ot");
+  write("far.yaml", "boxes:\n  - center: [50, 50, 50]\n    size: [0.1, 0.1, 0.1]\n"
+                    "  - center: [50, 50, 50.5]\n    size: [0.2, 0.2, 0.2]\n");
+  const std::string args = "--map " + path("m.ot") + " --roi " + path("far.yaml");
+  const nlohmann::json j = planJson(args);
+  EXPECT_EQ(j["all_gains_zero"], true);
+  EXPECT_EQ(j["roi_meets_map"], false);
+  EXPECT_EQ(j["best"]["index"], 0);
+  ASSERT_EQ(j["candidates"].size(), 27u);
+  for (const auto& c : j["candidates"]) {
+    EXPECT_EQ(c["gain"], 0.0) << c;
+    EXPECT_EQ(c["voxels_seen"], 0) << c;
+  }
+  const ToolRun text = run("plan " + args);
+  ASSERT_EQ(text.code, 0) << text.err;
+  EXPECT_NE(text.out.find("note: every candidate has gain 0"), std::string::npos)
+      << text.out;
+  EXPECT_NE(text.out.find("best view: candidate 0, gain 0.0 bits"), std::string::npos)
+      << text.out;
+}
+
+TEST_F(RealRobotCliTest, PlanOnABtMapWarnsAndStillPlans)
+{
+  capture("F");
+  integrate("F", "m.bt");
+  const ToolRun r = run("plan --map " + path("m.bt") + " --top 1");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_EQ(r.err.rfind("warning: ", 0), 0u) << r.err;
+  EXPECT_NE(r.err.find("is a .bt map"), std::string::npos) << r.err;
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+  EXPECT_NE(r.out.find("best view: candidate "), std::string::npos) << r.out;
+}
+
+TEST_F(RealRobotCliTest, IntegrateThatFailsLeavesTheMapAsItWas)
+{
+  capture("F");
+  capture("F");
+  const ToolRun first = run("integrate " + path("F") + " --frames 0 -o " + path("m.ot"));
+  ASSERT_EQ(first.code, 0) << first.err;
+  const std::string before = slurp(path("m.ot"));
+  ASSERT_GT(before.size(), 1000u);
+  // The second frame's PNG is cut in half: frame 0 goes in, frame 1 fails.
+  const fs::path png = dir_ / "F" / "depth" / "000001.png";
+  const std::string bytes = slurp(png);
+  std::ofstream(png, std::ios::binary) << bytes.substr(0, bytes.size() / 2);
+  for (const std::string& map_in : {std::string(), " --map-in " + path("m.ot")}) {
+    SCOPED_TRACE(map_in.empty() ? "a new map" : "--map-in");
+    const ToolRun r = run("integrate " + path("F") + map_in + " -o " + path("m.ot"));
+    expectOneLineError(r, 1, "F/depth/000001.png");
+    EXPECT_NE(r.out.find("frame   0 "), std::string::npos) << r.out;
+    EXPECT_TRUE(slurp(path("m.ot")) == before) << "m.ot changed";
+    for (const auto& entry : fs::directory_iterator(dir_)) {
+      const std::string name = entry.path().filename().string();
+      EXPECT_TRUE(name == "m.ot" || name.rfind("m.ot", 0) != 0) << name << " left behind";
+    }
+  }
+}
+
+TEST_F(RealRobotCliTest, FramesOutAppendsToItsFolderAndRefusesAnother)
+{
+  capture("A", "--intrinsics l515-320");
+  capture("A", "--intrinsics l515-320");
+  {
+    const plantnbv::io::FramesFolder folder(path("A"));
+    ASSERT_EQ(folder.frames().size(), 2u);
+    EXPECT_EQ(folder.frames()[0].stamp_s, 0.0);
+    EXPECT_EQ(folder.frames()[1].stamp_s, 1.0);
+    EXPECT_EQ(folder.camera().intrinsics.width, 320u);
+  }
+  const std::string list = slurp(path("A/depth.txt"));
+  // Another camera (640 x 480, or another depth scale): refused, nothing appended.
+  for (const char* other :
+       {"--intrinsics l515-640", "--intrinsics l515-320 --depth-scale 4000"}) {
+    SCOPED_TRACE(other);
+    expectOneLineError(
+        run("capture --plant 1 " + std::string(other) + " --frames-out " + path("A")), 1,
+        "A/camera.yaml' describes another camera");
+    EXPECT_EQ(slurp(path("A/depth.txt")), list);
+    EXPECT_FALSE(fs::exists(path("A/depth/000002.png")));
+  }
+  // reconstruct writes a whole trial to a new folder: one that holds frames is refused.
+  capture("B"); // the trial's camera (L515 at 640 x 480)
+  const std::string b_list = slurp(path("B/depth.txt"));
+  expectOneLineError(run("reconstruct --plant 1 --views 1 --frames-out " + path("B") +
+                         " -o " + path("R")),
+                     1, "already holds 1 frames");
+  EXPECT_EQ(slurp(path("B/depth.txt")), b_list);
+  expectOneLineError(run("reconstruct --plant 1 --views 1 --frames-out " + path("A") +
+                         " -o " + path("R")),
+                     1, "A/camera.yaml' describes another camera");
 }

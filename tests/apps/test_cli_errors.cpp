@@ -1,6 +1,12 @@
 // Every subcommand's bad arguments and files, as a table: each gives exit code 1 (bad
 // input) or 2 (usage error) and one line on stderr that names what was wrong.
 
+#include <algorithm>
+#include <cstdint>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -8,16 +14,19 @@
 
 #include "cli_fixture.h"
 
+namespace fs = std::filesystem;
+
 using plantnbv::test::CliTest;
 using plantnbv::test::expectOneLineError;
 using plantnbv::test::kFixtures;
+using plantnbv::test::slurp;
 
 namespace {
 
 struct BadCall {
   std::string args;   ///< "{d}" stands for the test's directory, "{f}" for the fixtures
   int code;           ///< 1 bad input, 2 usage error
-  std::string needle; ///< what the message must name
+  std::string needle; ///< what the message must name ("{d}" as in args)
 };
 
 const std::vector<BadCall> kBadCalls = {
@@ -88,7 +97,162 @@ const std::vector<BadCall> kBadCalls = {
     {"campaign status {d}/nowhere", 1, "nowhere"},
     {"campaign report {d}/nowhere", 1, "nowhere"},
     {"campaign run-chunk {d}/tiny.yaml -o {d}/c --chunk 3 --chunks 2", 1, "chunk"},
+    // integrate: frames folders with one defect each (copies of {d}/good, see the test)
+    {"integrate {d}/nocamera -o {d}/m.ot", 1, "nocamera/camera.yaml': no such file"},
+    {"integrate {d}/nomatrix -o {d}/m.ot", 1,
+     "nomatrix/camera.yaml' camera_matrix: missing"},
+    {"integrate {d}/wordwidth -o {d}/m.ot", 1,
+     "wordwidth/camera.yaml' image_width: 'wide' is not an integer"},
+    {"integrate {d}/wordmatrix -o {d}/m.ot", 1,
+     "wordmatrix/camera.yaml' camera_matrix.data: expected 9 numbers, got [fx, 0, 159.5"},
+    {"integrate {d}/wrongsize -o {d}/m.ot", 1,
+     "wrongsize/depth/000000.png' is 320x240, camera.yaml says 640x240"},
+    {"integrate {d}/grey8 -o {d}/m.ot", 1,
+     "grey8/depth/000000.png' is not a 16-bit grey PNG"},
+    {"integrate {d}/colour -o {d}/m.ot", 1,
+     "colour/depth/000000.png' is not a 16-bit grey PNG"},
+    {"integrate {d}/colour16 -o {d}/m.ot", 1,
+     "colour16/depth/000000.png' is not a 16-bit grey PNG"},
+    {"integrate {d}/truncated -o {d}/m.ot", 1,
+     "cannot decode depth image '{d}/truncated/depth/000000.png'"},
+    {"integrate {d}/cutheader -o {d}/m.ot", 1,
+     "cutheader/depth/000000.png' is not a PNG file"},
+    {"integrate {d}/nopng -o {d}/m.ot", 1,
+     "cannot read depth image '{d}/nopng/depth/000009.png'"},
+    {"integrate {d}/pose6 -o {d}/m.ot", 1,
+     "pose6/groundtruth.txt' line 3: expected 8 numbers "
+     "'timestamp tx ty tz qx qy qz qw', got 6"},
+    {"integrate {d}/pose9 -o {d}/m.ot", 1,
+     "pose9/groundtruth.txt' line 3: expected 8 numbers "
+     "'timestamp tx ty tz qx qy qz qw', got 9"},
+    {"integrate {d}/posenan -o {d}/m.ot", 1,
+     "posenan/groundtruth.txt' line 3: tz 'nan' is not a finite number"},
+    {"integrate {d}/poseinf -o {d}/m.ot", 1,
+     "poseinf/groundtruth.txt' line 3: qw '-inf' is not a finite number"},
+    {"integrate {d}/zeroquat -o {d}/m.ot", 1,
+     "zeroquat/groundtruth.txt' line 3: quaternion (0, 0, 0, 0) has norm 0"},
+    {"integrate {d}/nopose -o {d}/m.ot", 1,
+     "nopose/depth.txt' line 3: frame 'depth/000000.png' (0.000000 s) has no pose in "
+     "'{d}/nopose/groundtruth.txt' within 0.02 s (nearest 0.021000 s)"},
+    {"integrate {d}/scale0 -o {d}/m.ot", 1,
+     "scale0/camera.yaml' depth_scale: expected units per metre > 0 (1000: millimetres), "
+     "got 0"},
+    {"integrate {d}/scaleneg -o {d}/m.ot", 1, "scaleneg/camera.yaml' depth_scale"},
+    {"integrate {d}/good -o {d}/m.ot --depth-scale 0", 1, "--depth-scale 0"},
+    {"integrate {d}/good -o {d}/m.ot --depth-scale -1000", 1, "--depth-scale -1000"},
+    {"integrate {d}/distorted -o {d}/m.ot", 1,
+     "distorted/camera.yaml' distortion_coefficients.data: non-zero distortion "
+     "[0.1, 0, 0, 0, 0]"},
+    {"integrate {d}/empty -o {d}/m.ot", 1, "empty/camera.yaml': no such file"},
+    {"integrate {d}/nowhere -o {d}/m.ot", 1, "nowhere': no such folder"},
+    {"integrate {d}/good -o {d}/m.txt", 1, "m.txt': expected a .ot (log-odds) or .bt"},
+    {"integrate {d}/good -o {d}/m.ot --frames 9", 1, "--frames '9': '9' is out of range"},
+    {"integrate {d}/good -o {d}/m.ot --frames abc", 1,
+     "--frames 'abc': 'abc' is not an index or a range"},
+    {"integrate {d}/good --map-in {d}/notamap.ot -o {d}/m.ot", 1,
+     "notamap.ot' is not an OctoMap file"},
+    {"integrate {d}/good --map-in {d}/cut.ot -o {d}/m.ot", 1,
+     "cut.ot' is truncated or not a valid OctoMap (.ot) file"},
+    // plan (on {d}/good.ot, the map of {d}/good, unless the map is what is wrong)
+    {"plan --map {d}/notamap.ot", 1, "notamap.ot' is not an OctoMap file"},
+    {"plan --map {d}/notamap.bt", 1, "notamap.bt' is not an OctoMap file"},
+    {"plan --map {d}/cut.ot", 1,
+     "cut.ot' is truncated or not a valid OctoMap (.ot) file"},
+    {"plan --map {d}/none.ot", 1, "none.ot' does not exist"},
+    {"plan --map {d}/good.txt", 1, "good.txt': expected a .ot (log-odds) or .bt"},
+    {"plan --map {d}/good.ot --top -1", 1, "--top -1: expected K >= 0"},
+    {"plan --map {d}/good.ot --top two", 2, "--top"},
+    {"plan --map {d}/good.ot --roi leaf_nodes", 1,
+     "--roi leaf_nodes: leaf nodes and fruit are where a plant's anatomy puts them"},
+    {"plan --map {d}/good.ot --roi stems", 1, "--roi: unknown ROI 'stems'"},
+    {"plan --map {d}/good.ot --roi {d}/noroi.yaml", 1, "noroi.yaml"},
+    {"plan --map {d}/good.ot --sector-base 1,0", 2, "--sector-base"},
+    {"plan --map {d}/good.ot --current-pose 1,0,1,0,0,0,0", 1,
+     "--current-pose: pose quaternion must not be zero"},
+    {"plan --map {d}/good.ot --travel-cost 5", 1, "--travel-cost needs --current-pose"},
+    {"plan --map {d}/good.ot --candidates 10", 1,
+     "--candidates 10: expected a multiple of the 9 grid cells"},
+    {"plan --map {d}/good.ot --json --pose-only", 2, "excludes"},
 };
+
+/// The bytes of a PNG (no filter, deflate's stored blocks): `depth` bits per sample,
+/// `colour_type` as in its IHDR (0 grey, 2 RGB), every sample 1.
+std::string pngBytes(std::uint32_t width, std::uint32_t height, int depth,
+                     int colour_type)
+{
+  const auto be32 = [](std::uint32_t v) {
+    return std::string{char(v >> 24), char(v >> 16), char(v >> 8), char(v)};
+  };
+  const auto crc32 = [](const std::string& bytes) {
+    std::uint32_t c = 0xffffffffu;
+    for (unsigned char b : bytes) {
+      c ^= b;
+      for (int k = 0; k < 8; ++k)
+        c = (c >> 1) ^ (0xedb88320u & (0u - (c & 1u)));
+    }
+    return c ^ 0xffffffffu;
+  };
+  const std::size_t row = std::size_t(width) * (colour_type == 2 ? 3 : 1) * depth / 8;
+  std::string raw;
+  for (std::uint32_t y = 0; y < height; ++y)
+    raw += '\0' + std::string(row, '\1'); // filter 0, then the samples
+  std::string z = "\x78\x01";             // zlib, no compression
+  for (std::size_t at = 0; at < raw.size(); at += 65535) {
+    const std::size_t n = std::min<std::size_t>(65535, raw.size() - at);
+    z += char(at + n == raw.size() ? 1 : 0);
+    z += std::string{char(n), char(n >> 8), char(~n), char(~n >> 8)};
+    z += raw.substr(at, n);
+  }
+  std::uint32_t a = 1, b = 0; // Adler-32
+  for (unsigned char c : raw) {
+    a = (a + c) % 65521;
+    b = (b + a) % 65521;
+  }
+  z += be32((b << 16) | a);
+  const auto chunk = [&](const std::string& type, const std::string& data) {
+    return be32(std::uint32_t(data.size())) + type + data + be32(crc32(type + data));
+  };
+  const std::string ihdr =
+      be32(width) + be32(height) + char(depth) + char(colour_type) + std::string(3, '\0');
+  return "\x89PNG\r\n\x1a\n" + chunk("IHDR", ihdr) + chunk("IDAT", z) + chunk("IEND", "");
+}
+
+/// Rewrites a file with `edit` applied to its text.
+void editFile(const fs::path& file, const std::function<void(std::string&)>& edit)
+{
+  std::string text = slurp(file);
+  edit(text);
+  std::ofstream(file, std::ios::binary) << text;
+}
+
+/// `edit` of the fields of the last line (groundtruth.txt's pose line).
+void editLastLine(const fs::path& file,
+                  const std::function<void(std::vector<std::string>&)>& edit)
+{
+  editFile(file, [&](std::string& text) {
+    const std::size_t at = text.rfind('\n', text.size() - 2) + 1;
+    std::istringstream line(text.substr(at));
+    std::vector<std::string> fields;
+    for (std::string f; line >> f;)
+      fields.push_back(f);
+    edit(fields);
+    std::string joined;
+    for (const std::string& f : fields)
+      joined += (joined.empty() ? "" : " ") + f;
+    text = text.substr(0, at) + joined + "\n";
+  });
+}
+
+/// Replaces the first `from` by `to`; fails the test if `from` is not there.
+std::function<void(std::string&)> replacing(const std::string& from,
+                                            const std::string& to)
+{
+  return [=](std::string& text) {
+    const auto at = text.find(from);
+    ASSERT_NE(at, std::string::npos) << "no '" << from << "' in: " << text;
+    text.replace(at, from.size(), to);
+  };
+}
 
 } // namespace
 
@@ -113,15 +277,71 @@ TEST_F(CliTest, EveryBadArgumentOrFileIsOneLineNamingIt)
   write("unknown_key.yaml", tiny + "      - {type: nbv, atention: leaf-nodes}\n");
   write("garbage.yaml", "studies: [unclosed\n");
 
+  // A frames folder as `capture` writes it (one 320 x 240 frame; the pose on line 3 of
+  // groundtruth.txt, the frame on line 3 of depth.txt), its map, and copies of the
+  // folder with one defect each.
+  ASSERT_EQ(
+      run("capture --plant 1 --intrinsics l515-320 --frames-out " + path("good")).code,
+      0);
+  ASSERT_EQ(run("integrate " + path("good") + " -o " + path("good.ot")).code, 0);
+  const auto copy = [&](const std::string& name) {
+    fs::copy(path("good"), path(name), fs::copy_options::recursive);
+    return dir_ / name;
+  };
+  const std::string png = "depth/000000.png";
+  fs::remove(copy("nocamera") / "camera.yaml");
+  editFile(copy("nomatrix") / "camera.yaml", [](std::string& text) {
+    const auto from = text.find("camera_matrix:"), to = text.find("distortion_model:");
+    ASSERT_LT(from, to);
+    text.erase(from, to - from);
+  });
+  editFile(copy("wordwidth") / "camera.yaml",
+           replacing("image_width: 320", "image_width: wide"));
+  editFile(copy("wordmatrix") / "camera.yaml", [](std::string& text) {
+    const auto fx = text.find("  data: [") + 9; // camera_matrix's, the first
+    text.replace(fx, text.find(',', fx) - fx, "fx");
+  });
+  editFile(copy("wrongsize") / "camera.yaml",
+           replacing("image_width: 320", "image_width: 640"));
+  std::ofstream(copy("grey8") / png, std::ios::binary) << pngBytes(320, 240, 8, 0);
+  std::ofstream(copy("colour") / png, std::ios::binary) << pngBytes(320, 240, 8, 2);
+  std::ofstream(copy("colour16") / png, std::ios::binary) << pngBytes(320, 240, 16, 2);
+  // The same encoder's 16-bit grey PNG is read: the two above fail for their format only.
+  std::ofstream(copy("grey16") / png, std::ios::binary) << pngBytes(320, 240, 16, 0);
+  EXPECT_EQ(run("integrate " + path("grey16") + " -o " + path("grey16.ot")).code, 0);
+  editFile(copy("truncated") / png, [](std::string& b) { b.resize(b.size() / 2); });
+  editFile(copy("cutheader") / png, [](std::string& b) { b.resize(40); });
+  editFile(copy("nopng") / "depth.txt", replacing(png, "depth/000009.png"));
+  editLastLine(copy("pose6") / "groundtruth.txt", [](auto& f) { f.resize(6); });
+  editLastLine(copy("pose9") / "groundtruth.txt", [](auto& f) { f.push_back("1"); });
+  editLastLine(copy("posenan") / "groundtruth.txt", [](auto& f) { f.at(3) = "nan"; });
+  editLastLine(copy("poseinf") / "groundtruth.txt", [](auto& f) { f.at(7) = "-inf"; });
+  editLastLine(copy("zeroquat") / "groundtruth.txt",
+               [](auto& f) { std::fill(f.begin() + 4, f.end(), "0"); });
+  editLastLine(copy("nopose") / "groundtruth.txt", [](auto& f) { f.at(0) = "0.021000"; });
+  editFile(copy("scale0") / "camera.yaml",
+           replacing("depth_scale: 1000", "depth_scale: 0"));
+  editFile(copy("scaleneg") / "camera.yaml",
+           replacing("depth_scale: 1000", "depth_scale: -5"));
+  editFile(copy("distorted") / "camera.yaml",
+           replacing("data: [0, 0, 0, 0, 0]", "data: [0.1, 0, 0, 0, 0]"));
+  fs::create_directories(path("empty"));
+  write("notamap.ot", "# not a map\n");
+  write("notamap.bt", "# not a map\n");
+  fs::copy_file(path("good.ot"), path("cut.ot"));
+  editFile(path("cut.ot"), [](std::string& b) { b.resize(2000); }); // in its data
+
   std::size_t cases = 0;
   for (const BadCall& call : kBadCalls) {
-    std::string args = call.args;
-    for (const auto& [mark, value] :
-         {std::pair<std::string, std::string>{"{d}", path("")}, {"{f}", kFixtures + "/"}})
-      for (auto at = args.find(mark); at != std::string::npos; at = args.find(mark))
-        args.replace(at, mark.size() + 1, value); // "{d}/" -> "<dir>/"
+    std::string args = call.args, needle = call.needle;
+    for (std::string* text : {&args, &needle})
+      for (const auto& [mark, value] :
+           {std::pair<std::string, std::string>{"{d}", path("")},
+            {"{f}", kFixtures + "/"}})
+        for (auto at = text->find(mark); at != std::string::npos; at = text->find(mark))
+          text->replace(at, mark.size() + 1, value); // "{d}/" -> "<dir>/"
     SCOPED_TRACE("plantnbv " + args);
-    expectOneLineError(run(args), call.code, call.needle);
+    expectOneLineError(run(args), call.code, needle);
     ++cases;
   }
   EXPECT_GE(cases, 30u);

@@ -3,8 +3,8 @@
 
 #include <gtest/gtest.h>
 
-#include <plantnbv/common/error.h>
 #include <plantnbv/camera/camera_intrinsics.h>
+#include <plantnbv/common/error.h>
 
 using plantnbv::CameraIntrinsics;
 using plantnbv::InvalidArgumentError;

@@ -64,8 +64,8 @@ TEST(DepthImage, BackProjectsIntoTheWorldThroughTheOpticalPose)
   const CameraIntrinsics K = CameraIntrinsics::custom(1, 1, 10.0, 10.0, 0.0, 0.0);
   DepthImage depth{1, 1, {2.0f}};
   // Body at (1, 2, 3) looking along world +y: the point lies 2 m along +y.
-  const Pose body(Eigen::Vector3d(1, 2, 3),
-                  Eigen::Quaterniond(Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitZ())));
+  const Pose body(Eigen::Vector3d(1, 2, 3), Eigen::Quaterniond(Eigen::AngleAxisd(
+                                                M_PI / 2, Eigen::Vector3d::UnitZ())));
   CloudXYZ cloud;
   depthToCloud(depth, K, opticalFrame(body), cloud);
   EXPECT_NEAR(cloud.points[0].x, 1.0, 1e-6);
@@ -91,8 +91,8 @@ TEST(DepthImage, UnitsRoundToTheNearestAndZeroIsNoReturn)
   EXPECT_EQ(depthToUnits(0.4006f, 1000.0), 401);
   EXPECT_EQ(depthToUnits(0.2f, 5000.0), 1000);
   EXPECT_EQ(depthToUnits(kNaN, 1000.0), 0);
-  EXPECT_EQ(depthToUnits(0.0004f, 1000.0), 0);  // rounds to 0
-  EXPECT_EQ(depthToUnits(65.6f, 1000.0), 0);    // over 65535 units
+  EXPECT_EQ(depthToUnits(0.0004f, 1000.0), 0); // rounds to 0
+  EXPECT_EQ(depthToUnits(65.6f, 1000.0), 0);   // over 65535 units
   EXPECT_EQ(depthToUnits(-1.0f, 1000.0), 0);
   EXPECT_TRUE(std::isnan(depthFromUnits(0, 1000.0)));
   EXPECT_FLOAT_EQ(depthFromUnits(1234, 1000.0), 1.234f);

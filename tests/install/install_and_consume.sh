@@ -1,7 +1,12 @@
 #!/usr/bin/env bash
-# Usage: install_and_consume.sh BUILD_DIR CONSUMER_SOURCE WORK_DIR CMAKE
+# Usage: install_and_consume.sh BUILD_DIR CONSUMER_SOURCE WORK_DIR CMAKE [ROBOT_CONSUMER_SOURCE]
+# Installs the build into WORK_DIR/prefix, then builds and runs two projects of others
+# against it: CONSUMER_SOURCE (plantnbv::metrics only) and ROBOT_CONSUMER_SOURCE (default:
+# robot_consumer beside CONSUMER_SOURCE; plantnbv::session and plantnbv::io only, a
+# 3-frame loop), and checks that what a robot links holds no simulator.
 set -euo pipefail
 build=$1 consumer=$2 work=$3 cmake=$4
+robot_consumer=${5:-$(dirname "$consumer")/robot_consumer}
 rm -rf "$work"
 "$cmake" --install "$build" --prefix "$work/prefix" >"$work.install.log" 2>&1 ||
   { cat "$work.install.log"; exit 1; }
@@ -19,3 +24,46 @@ fi
 out=$("$work/consumer-build/consumer")
 echo "$out"
 [ "$out" = "f1=1 chamfer=0.002" ]
+
+# The robot's consumer: session + io, frames written, read back, integrated, planned.
+"$cmake" -S "$robot_consumer" -B "$work/robot-consumer-build" -G Ninja \
+  -DCMAKE_PREFIX_PATH="$work/prefix" -DCMAKE_BUILD_TYPE=Release
+"$cmake" --build "$work/robot-consumer-build"
+robot="$work/robot-consumer-build/robot_consumer"
+out=$("$robot")
+echo "$out"
+[ "$out" = "frames=3 candidates=27 best_gain>0=1 occupied>0=1" ]
+
+# What a robot links holds no simulator: no Embree, no plant generator, no ray caster,
+# and no VTK, in anything loaded with the robot's program and the three libraries it
+# needs (ldd: every library loaded, not only the direct ones).
+# One exception, from outside plantnbv: Debian's libpcl_io (which libplantnbv_io links
+# for PCD / PLY clouds) needs VTK itself; VTK is accepted only where libpcl_io brings it.
+lib="$work/prefix/lib"
+pcl_io=$(ldd "$lib/libplantnbv_io.so" | awk '/libpcl_io\.so/ {print $3}')
+pcl_io_vtk=$( [ -n "$pcl_io" ] && ldd "$pcl_io" | awk '/libvtk/ {print $1}' | sort -u || true)
+status=0
+for f in "$robot" "$lib/libplantnbv_session.so" "$lib/libplantnbv_io.so" \
+         "$lib/libplantnbv_camera.so"; do
+  deps=$(ldd "$f")
+  if grep -Ei 'not found' <<<"$deps"; then
+    echo "$f: a library it needs is not found" >&2; status=1
+  fi
+  if grep -Ei 'embree|libplantnbv_(plant|sensor|viz|experiment|scenario)\.' <<<"$deps"; then
+    echo "$f links Embree or a simulator module of plantnbv" >&2; status=1
+  fi
+  # VTK needed directly (readelf) is never accepted; loaded, only as libpcl_io's.
+  if readelf -d "$f" | grep -E 'NEEDED.*vtk'; then
+    echo "$f needs VTK directly" >&2; status=1
+  fi
+  extra=$(comm -23 <(awk '/libvtk/ {print $1}' <<<"$deps" | sort -u) <(echo "$pcl_io_vtk"))
+  if [ -n "$extra" ]; then
+    echo "$f loads VTK other than through libpcl_io: $extra" >&2; status=1
+  fi
+done
+for f in "$lib/libplantnbv_session.so" "$lib/libplantnbv_camera.so"; do
+  if ldd "$f" | grep -Ei 'vtk|pcl_io'; then
+    echo "$f loads VTK or libpcl_io" >&2; status=1
+  fi
+done
+exit $status

@@ -45,8 +45,8 @@ CloudXYZ wall(double x0, double y0, double z0, double half)
 
 /// The gains of `views` with InformationGain at `threads`.
 std::vector<ViewGain> fastGains(std::shared_ptr<const OccupancyMap> map, const Roi& roi,
-                                const GainConfig& config, const std::vector<Viewpoint>& views,
-                                int threads)
+                                const GainConfig& config,
+                                const std::vector<Viewpoint>& views, int threads)
 {
   InformationGain gain;
   gain.setInputMap(std::move(map));
@@ -170,6 +170,32 @@ TEST(InformationGain, CandidateLookingAwayFromTheRoiGainsNothing)
   EXPECT_EQ(far.gain, 0.0);
 }
 
+TEST(InformationGain, AnRoiOutOfEveryCandidatesReachGainsNothingHoweverFar)
+{
+  // A box 50 m from the plant's map (an ROI in the wrong frame or units): no ray reaches
+  // it, so every gain is 0, as the reference says, and no snapshot spans the 50 m.
+  const auto map = test::plantMap();
+  const Roi roi({Box(Eigen::Vector3d(50.0, 50.0, 50.0), Eigen::Vector3d(0.1, 0.1, 0.1))});
+  // v0, and a camera 0.76 m + 2 voxels from the box's face, looking at it.
+  const std::vector<Viewpoint> views = {
+      test::paperV0(),
+      lookingAlong(Eigen::Vector3d(49.95 - 0.76 - 2 * kRes, 50.0, 50.0), 0.0)};
+  InformationGain gain;
+  gain.setInputMap(map);
+  gain.setRoi(roi);
+  std::vector<ViewGain> out;
+  gain.compute(views, out);
+  ASSERT_EQ(out.size(), 2u);
+  for (std::size_t i = 0; i < views.size(); ++i) {
+    EXPECT_EQ(out[i].gain, 0.0) << i;
+    EXPECT_EQ(out[i].voxels_seen, 0u) << i;
+    EXPECT_EQ(out[i].rays_cast, 0u) << i;
+    EXPECT_EQ(referenceInformationGain(*map, roi, GainConfig(), views[i]).voxels_seen,
+              0u);
+  }
+  EXPECT_EQ(gain.getLastStats().rays_cast, 0u);
+}
+
 TEST(InformationGain, VoxelsBehindAWallDoNotCount)
 {
   auto map = std::make_shared<OccupancyMap>();
@@ -218,7 +244,8 @@ TEST(InformationGain, GainFallsOnceTheViewIsInserted)
   // Free voxels seen once still hold 0.97 bits (p = 0.4); most unknown ones are gone
   // (some rays slip between the occupied voxels of a thin leaf: unknown behind it).
   EXPECT_LT(after.gain, before.gain);
-  EXPECT_LT(static_cast<double>(after.unknown_seen), 0.7 * static_cast<double>(before.unknown_seen));
+  EXPECT_LT(static_cast<double>(after.unknown_seen),
+            0.7 * static_cast<double>(before.unknown_seen));
   const ViewGain ref = referenceInformationGain(*map, roi, GainConfig(), view);
   EXPECT_EQ(after.voxels_seen, ref.voxels_seen);
   EXPECT_NEAR(after.gain, ref.gain, 1e-9 * ref.gain);
@@ -310,7 +337,8 @@ TEST(InformationGain, VisibilityWeightedGainByHand)
   map->insert(hit, Eigen::Vector3d(centre(k0), y, z));
   std::vector<double> p(11);
   for (int i = 0; i <= 10; ++i)
-    p[static_cast<std::size_t>(i)] = map->probability(Eigen::Vector3d(centre(k0 + i), y, z));
+    p[static_cast<std::size_t>(i)] =
+        map->probability(Eigen::Vector3d(centre(k0 + i), y, z));
   ASSERT_NEAR(p[0], 0.4, 1e-6);
   ASSERT_NEAR(p[5], 0.7, 1e-6);
   ASSERT_EQ(p[6], 0.5);
@@ -345,7 +373,8 @@ TEST(InformationGain, VisibilityWeightedGainByHand)
   gain.setConfig(config);
   const ViewGain plain = gain.compute(view);
   EXPECT_EQ(plain.voxels_seen, 3u);
-  EXPECT_NEAR(plain.gain, occupancyEntropy(p[3]) + occupancyEntropy(p[4]) + occupancyEntropy(p[5]),
+  EXPECT_NEAR(plain.gain,
+              occupancyEntropy(p[3]) + occupancyEntropy(p[4]) + occupancyEntropy(p[5]),
               1e-15);
 }
 

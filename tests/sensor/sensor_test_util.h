@@ -8,9 +8,9 @@
 
 #include <Eigen/Geometry>
 
+#include <plantnbv/camera/camera_intrinsics.h>
 #include <plantnbv/common/pose.h>
 #include <plantnbv/common/triangle_mesh.h>
-#include <plantnbv/camera/camera_intrinsics.h>
 #include <plantnbv/sensor/simulated_depth_sensor.h>
 
 namespace plantnbv {

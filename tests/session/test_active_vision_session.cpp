@@ -116,7 +116,8 @@ TEST(ActiveVisionSession, TheRoiCanChangeBetweenSteps)
   NextBestView everything;
   session.nextBestView(everything);
   // An ROI far from the sector: no candidate sees it.
-  session.setRoi(Roi({Box(Eigen::Vector3d(5.0, 5.0, 5.0), Eigen::Vector3d(0.1, 0.1, 0.1))}));
+  session.setRoi(
+      Roi({Box(Eigen::Vector3d(5.0, 5.0, 5.0), Eigen::Vector3d(0.1, 0.1, 0.1))}));
   NextBestView nothing;
   session.nextBestView(nothing);
   EXPECT_GT(everything.ranking[0].gain.gain, 0.0);

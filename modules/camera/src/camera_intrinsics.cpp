@@ -5,8 +5,8 @@
 #include <sstream>
 #include <vector>
 
-#include <plantnbv/common/error.h>
 #include <plantnbv/camera/camera_intrinsics.h>
+#include <plantnbv/common/error.h>
 
 namespace plantnbv {
 

@@ -1,5 +1,3 @@
-#include <plantnbv/camera/depth_image.h>
-
 #include <cmath>
 #include <limits>
 #include <string>
@@ -7,6 +5,7 @@
 #include <pcl/point_cloud.h>
 #include <pcl/point_types.h>
 
+#include <plantnbv/camera/depth_image.h>
 #include <plantnbv/common/error.h>
 
 namespace plantnbv {
@@ -26,7 +25,8 @@ void requireUnits(double units_per_m, const char* who)
 std::uint16_t depthToUnits(float depth_m, double units_per_m)
 {
   const double units = std::round(double(depth_m) * units_per_m);
-  return units >= 1.0 && units <= 65535.0 ? static_cast<std::uint16_t>(units) : 0; // NaN: 0
+  return units >= 1.0 && units <= 65535.0 ? static_cast<std::uint16_t>(units)
+                                          : 0; // NaN: 0
 }
 
 float depthFromUnits(std::uint16_t units, double units_per_m)
@@ -47,18 +47,19 @@ void depthToCloud(const DepthImage& depth, const CameraIntrinsics& K, const Pose
 {
   const std::size_t n = std::size_t(depth.width) * depth.height;
   if (depth.width != K.width || depth.height != K.height || depth.depth_m.size() < n)
-    throw InvalidArgumentError(
-        "depthToCloud: a " + std::to_string(depth.width) + "x" +
-        std::to_string(depth.height) + " image with " +
-        std::to_string(depth.depth_m.size()) + " values for a camera of " +
-        std::to_string(K.width) + "x" + std::to_string(K.height));
+    throw InvalidArgumentError("depthToCloud: a " + std::to_string(depth.width) + "x" +
+                               std::to_string(depth.height) + " image with " +
+                               std::to_string(depth.depth_m.size()) +
+                               " values for a camera of " + std::to_string(K.width) +
+                               "x" + std::to_string(K.height));
   const Eigen::Matrix3d R = T_W_O.orientation.toRotationMatrix();
   const Eigen::Vector3d& t = T_W_O.position;
   const float nan = std::numeric_limits<float>::quiet_NaN();
   cloud_W.width = depth.width;
   cloud_W.height = depth.height;
   cloud_W.points.resize(n);
-  cloud_W.sensor_origin_ = Eigen::Vector4f(float(t.x()), float(t.y()), float(t.z()), 0.0f);
+  cloud_W.sensor_origin_ =
+      Eigen::Vector4f(float(t.x()), float(t.y()), float(t.z()), 0.0f);
   cloud_W.sensor_orientation_ = T_W_O.orientation.cast<float>();
   bool dense = true;
   for (std::uint32_t v = 0; v < depth.height; ++v)

@@ -1,15 +1,13 @@
-#include <plantnbv/io/depth_image_io.h>
-
 #include <cmath>
 #include <cstdint>
 #include <fstream>
 #include <limits>
-#include <vector>
-
 #include <png.h>
+#include <vector>
 
 #include <plantnbv/camera/depth_image.h>
 #include <plantnbv/common/error.h>
+#include <plantnbv/io/depth_image_io.h>
 
 namespace plantnbv {
 namespace io {

@@ -1,5 +1,3 @@
-#include <plantnbv/io/frames_folder.h>
-
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -14,6 +12,7 @@
 
 #include <plantnbv/common/error.h>
 #include <plantnbv/io/depth_image_io.h>
+#include <plantnbv/io/frames_folder.h>
 #include <plantnbv/io/yaml_reader.h>
 
 #include "io_util.h"
@@ -114,8 +113,9 @@ void readPinholeMatrix(const YamlReader& reader, const YAML::Node& node,
     reader.fail(data_path, "missing (the 9 numbers fx, 0, cx, 0, fy, cy, 0, 0, 1)");
   if (data[1] != 0.0 || data[3] != 0.0 || data[6] != 0.0 || data[7] != 0.0 ||
       data[8] != 1.0)
-    reader.fail(data_path, "expected a pinhole matrix [fx, 0, cx, 0, fy, cy, 0, 0, 1], got " +
-                               YamlReader::describe(node["data"]));
+    reader.fail(data_path,
+                "expected a pinhole matrix [fx, 0, cx, 0, fy, cy, 0, 0, 1], got " +
+                    YamlReader::describe(node["data"]));
   K.fx = data[0];
   K.cx = data[2];
   K.fy = data[4];
@@ -214,8 +214,9 @@ CameraInfo readCameraInfo(const std::string& path)
   if (!height)
     reader.fail("image_height", "missing");
   if (!matrix)
-    reader.fail("camera_matrix", "missing (rows: 3, cols: 3, data: [fx, 0, cx, 0, fy, cy, "
-                                 "0, 0, 1])");
+    reader.fail("camera_matrix",
+                "missing (rows: 3, cols: 3, data: [fx, 0, cx, 0, fy, cy, "
+                "0, 0, 1])");
   try {
     K.validate();
   } catch (const InvalidArgumentError& e) {
@@ -235,7 +236,8 @@ void writeCameraInfo(const std::string& path, const CameraInfo& info)
       << ", 0, " << K.cx << ", 0, " << K.fy << ", " << K.cy << ", 0, 0, 1]\n"
       << "distortion_model: " << info.distortion_model
       << "\ndistortion_coefficients:\n  rows: 1\n  cols: 5\n  data: [0, 0, 0, 0, 0]\n"
-      << "rectification_matrix:\n  rows: 3\n  cols: 3\n  data: [1, 0, 0, 0, 1, 0, 0, 0, 1]\n"
+      << "rectification_matrix:\n  rows: 3\n  cols: 3\n  data: [1, 0, 0, 0, 1, 0, 0, 0, "
+         "1]\n"
       << "projection_matrix:\n  rows: 3\n  cols: 4\n  data: [" << K.fx << ", 0, " << K.cx
       << ", 0, 0, " << K.fy << ", " << K.cy << ", 0, 0, 0, 1, 0]\n"
       << "depth_scale: " << info.depth_scale << "\n";
@@ -313,12 +315,12 @@ FramesFolder::FramesFolder(const std::string& folder, const FramesFolderOptions&
   std::error_code ec;
   if (!fs::is_directory(folder, ec))
     throw IoError(inQuotes(folder) + ": no such folder (a frames folder: camera.yaml, "
-                                   "depth.txt, groundtruth.txt, depth/)");
+                                     "depth.txt, groundtruth.txt, depth/)");
   const fs::path dir(folder);
   const std::string camera_path = (dir / "camera.yaml").string();
   if (!fs::exists(camera_path, ec))
     throw IoError(inQuotes(camera_path) + ": no such file (the camera's calibration, ROS "
-                                        "camera_info YAML)");
+                                          "camera_info YAML)");
   camera_ = readCameraInfo(camera_path);
   if (options.depth_scale != 0.0) {
     if (!(options.depth_scale > 0.0) || !std::isfinite(options.depth_scale))
@@ -328,7 +330,8 @@ FramesFolder::FramesFolder(const std::string& folder, const FramesFolderOptions&
   }
   const std::string list_path = (dir / "depth.txt").string();
   if (!fs::exists(list_path, ec))
-    throw IoError(inQuotes(list_path) + ": no such file (\"timestamp filename\" per frame)");
+    throw IoError(inQuotes(list_path) +
+                  ": no such file (\"timestamp filename\" per frame)");
   std::string poses_path = (dir / "groundtruth.txt").string();
   if (!fs::exists(poses_path, ec))
     poses_path = (dir / "poses.txt").string();
@@ -340,10 +343,9 @@ FramesFolder::FramesFolder(const std::string& folder, const FramesFolderOptions&
   std::vector<StampedPose> poses = readTumTrajectory(poses_path);
   if (files.empty())
     throw FormatError(inQuotes(list_path) + ": lists no frame");
-  std::stable_sort(poses.begin(), poses.end(),
-                   [](const StampedPose& a, const StampedPose& b) {
-                     return a.stamp_s < b.stamp_s;
-                   });
+  std::stable_sort(
+      poses.begin(), poses.end(),
+      [](const StampedPose& a, const StampedPose& b) { return a.stamp_s < b.stamp_s; });
   for (const StampedFile& f : files) {
     // The nearest pose: the first at or after the stamp, or the one before it.
     const auto after = std::lower_bound(
@@ -377,9 +379,10 @@ FramesFolder::FramesFolder(const std::string& folder, const FramesFolderOptions&
     frames_.push_back(r);
   }
   if (frames_.empty())
-    throw FormatError(inQuotes(list_path) + ": none of its " + std::to_string(files.size()) +
-                      " frames has a pose within " + detail::numberText(options.max_pose_dt_s) +
-                      " s in " + inQuotes(poses_path));
+    throw FormatError(inQuotes(list_path) + ": none of its " +
+                      std::to_string(files.size()) + " frames has a pose within " +
+                      detail::numberText(options.max_pose_dt_s) + " s in " +
+                      inQuotes(poses_path));
 }
 
 void FramesFolder::loadDepth(std::size_t i, DepthImage& depth) const
@@ -390,7 +393,8 @@ void FramesFolder::loadDepth(std::size_t i, DepthImage& depth) const
   loadDepthPng(frame.depth_path, depth, camera_.depth_scale, K.width, K.height);
 }
 
-FramesFolderWriter::FramesFolderWriter(const std::string& folder, const CameraInfo& camera)
+FramesFolderWriter::FramesFolderWriter(const std::string& folder,
+                                       const CameraInfo& camera)
     : folder_(folder), camera_(camera)
 {
   camera_.intrinsics.validate();
@@ -424,28 +428,30 @@ FramesFolderWriter::FramesFolderWriter(const std::string& folder, const CameraIn
     }
 }
 
-void FramesFolderWriter::append(const DepthImage& depth, const Pose& T_W_O, double stamp_s)
+void FramesFolderWriter::append(const DepthImage& depth, const Pose& T_W_O,
+                                double stamp_s)
 {
   const CameraIntrinsics& K = camera_.intrinsics;
   if (depth.width != K.width || depth.height != K.height)
-    throw InvalidArgumentError("FramesFolderWriter: a " + std::to_string(depth.width) +
-                               "x" + std::to_string(depth.height) + " frame for a " +
-                               std::to_string(K.width) + "x" + std::to_string(K.height) +
-                               " camera");
+    throw InvalidArgumentError(
+        "frames folder " + inQuotes(folder_) + ": a " + std::to_string(depth.width) +
+        "x" + std::to_string(depth.height) + " frame for a " + std::to_string(K.width) +
+        "x" + std::to_string(K.height) + " camera");
   if (std::isnan(stamp_s))
     stamp_s = count_ == 0 ? 0.0 : last_stamp_s_ + 1.0;
   if (!std::isfinite(stamp_s) || (count_ > 0 && !(stamp_s > last_stamp_s_)))
-    throw InvalidArgumentError("FramesFolderWriter: stamp " + formatStamp(stamp_s) +
-                               " s is not after the folder's last frame (" +
-                               formatStamp(last_stamp_s_) + " s)");
+    throw InvalidArgumentError(
+        "frames folder " + inQuotes(folder_) + ": stamp " + formatStamp(stamp_s) +
+        " s is not after the folder's last frame (" + formatStamp(last_stamp_s_) + " s)");
   const fs::path dir(folder_);
   char name[32];
   std::snprintf(name, sizeof(name), "depth/%06zu.png", count_);
   const std::string png_path = (dir / name).string();
   std::error_code ec;
   if (fs::exists(png_path, ec))
-    throw IoError(inQuotes(png_path) + " exists but depth.txt does not list it: refusing to "
-                                     "overwrite it");
+    throw IoError(inQuotes(png_path) +
+                  " exists but depth.txt does not list it: refusing to "
+                  "overwrite it");
   saveDepthPng(png_path, depth.width, depth.height, depth.depth_m, camera_.depth_scale);
 
   const auto appendLine = [&](const std::string& file, const char* header,
@@ -470,8 +476,9 @@ void FramesFolderWriter::append(const DepthImage& depth, const Pose& T_W_O, doub
              "# T_W_O: the depth camera's optical frame (z forward, x right, y down) in "
              "the world (z up)\n# timestamp tx ty tz qx qy qz qw\n",
              pose.str());
-  appendLine("depth.txt", "# depth images (16-bit PNG, depth_scale units per metre in "
-                          "camera.yaml)\n# timestamp filename\n",
+  appendLine("depth.txt",
+             "# depth images (16-bit PNG, depth_scale units per metre in "
+             "camera.yaml)\n# timestamp filename\n",
              stamp + ' ' + name);
   ++count_;
   last_stamp_s_ = stamp_s;

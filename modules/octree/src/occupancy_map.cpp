@@ -602,14 +602,12 @@ void OccupancyMap::insertImpl(const pcl::PointCloud<PointT>& points_W,
                            static_cast<float>(sensor_origin_W.y()),
                            static_cast<float>(sensor_origin_W.z())};
   int key_origin[3];
-  if (!sensor_origin_W.allFinite() ||
-      !lattice.coordToKey(origin, key_origin)) {
+  if (!sensor_origin_W.allFinite() || !lattice.coordToKey(origin, key_origin)) {
     std::ostringstream s;
     s << "OccupancyMap::insert: sensor origin (" << sensor_origin_W.x() << ", "
       << sensor_origin_W.y() << ", " << sensor_origin_W.z()
       << ") is not finite or lies outside the octree (+-"
-      << VoxelLattice::kKeyOffset * lattice.resolution()
-      << " m)";
+      << VoxelLattice::kKeyOffset * lattice.resolution() << " m)";
     throw InvalidArgumentError(s.str());
   }
 

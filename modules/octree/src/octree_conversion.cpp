@@ -52,7 +52,7 @@ void writeBinaryNode(std::ostream& out, const octomap::OcTree& tree,
     if (!tree.nodeChildExists(node, i))
       continue;
     const octomap::OcTreeNode* child = tree.getNodeChild(node, i);
-    const unsigned code = tree.nodeHasChildren(child) ? 3u
+    const unsigned code = tree.nodeHasChildren(child)  ? 3u
                           : tree.isNodeOccupied(child) ? 2u
                                                        : 1u;
     codes[i / 4] = static_cast<unsigned char>(codes[i / 4] | code << (2 * (i % 4)));
@@ -269,7 +269,8 @@ void writeOcTree(const std::string& path, const octomap::OcTree& tree)
   // formatting, as OctoMap writes it.
   const bool binary = ext == ".bt";
   out << (binary ? kBinaryHeader : kFullHeader)
-      << "\n# (feel free to add / change comments, but leave the first line as it is!)\n#\n"
+      << "\n# (feel free to add / change comments, but leave the first line as it "
+         "is!)\n#\n"
       << "id " << tree.getTreeType() << "\nsize " << tree.size() << "\nres "
       << tree.getResolution() << "\ndata\n";
   if (binary) {

@@ -85,7 +85,8 @@ public:
       return;
     }
     const std::size_t slot = static_cast<std::size_t>(w - bits_.data()) / 8;
-    double& v = vis_[slot * kBrickVoxels + static_cast<std::size_t>(brickLocal(kx, ky, kz))];
+    double& v =
+        vis_[slot * kBrickVoxels + static_cast<std::size_t>(brickLocal(kx, ky, kz))];
     if (vis > v)
       v = vis; // starts at -1
   }
@@ -97,7 +98,8 @@ public:
   {
     for (std::size_t slot = 0; slot < used_.size(); ++slot) {
       const std::size_t s = used_[slot];
-      const std::size_t nx = static_cast<std::size_t>(nb_[0]), ny = static_cast<std::size_t>(nb_[1]);
+      const std::size_t nx = static_cast<std::size_t>(nb_[0]),
+                        ny = static_cast<std::size_t>(nb_[1]);
       const int base[3] = {(static_cast<int>(s % nx) + b0_[0]) << kBrickShift,
                            (static_cast<int>((s / nx) % ny) + b0_[1]) << kBrickShift,
                            (static_cast<int>(s / (nx * ny)) + b0_[2]) << kBrickShift};
@@ -107,7 +109,9 @@ public:
           vis = vis_[slot * kBrickVoxels + static_cast<std::size_t>(local)];
           if (vis < 0.0)
             continue;
-        } else if (!((bits_[slot * 8 + static_cast<std::size_t>(local >> 6)] >> (local & 63)) & 1u)) {
+        } else if (!((bits_[slot * 8 + static_cast<std::size_t>(local >> 6)] >>
+                      (local & 63)) &
+                     1u)) {
           continue;
         }
         f(base[0] + (local & kBrickMask), base[1] + ((local >> kBrickShift) & kBrickMask),
@@ -128,8 +132,8 @@ public:
 private:
   static std::uint64_t pack(int kx, int ky, int kz)
   {
-    return (static_cast<std::uint64_t>(kx) << 32) | (static_cast<std::uint64_t>(ky) << 16) |
-           static_cast<std::uint64_t>(kz);
+    return (static_cast<std::uint64_t>(kx) << 32) |
+           (static_cast<std::uint64_t>(ky) << 16) | static_cast<std::uint64_t>(kz);
   }
 
   /// The bit words of the voxel's brick (made on first use); null outside the box.
@@ -141,9 +145,10 @@ private:
     if (rx >= static_cast<unsigned>(nb_[0]) || ry >= static_cast<unsigned>(nb_[1]) ||
         rz >= static_cast<unsigned>(nb_[2]))
       return nullptr;
-    const std::size_t s = (static_cast<std::size_t>(rz) * static_cast<std::size_t>(nb_[1]) + ry) *
-                              static_cast<std::size_t>(nb_[0]) +
-                          rx;
+    const std::size_t s =
+        (static_cast<std::size_t>(rz) * static_cast<std::size_t>(nb_[1]) + ry) *
+            static_cast<std::size_t>(nb_[0]) +
+        rx;
     std::uint32_t e = table_[s];
     if (!e) {
       const std::size_t slot = used_.size();
@@ -158,7 +163,8 @@ private:
         if (vis_.size() < (slot + 1) * kBrickVoxels)
           vis_.resize((slot + 1) * kBrickVoxels);
         std::fill(vis_.begin() + static_cast<std::ptrdiff_t>(slot * kBrickVoxels),
-                  vis_.begin() + static_cast<std::ptrdiff_t>((slot + 1) * kBrickVoxels), -1.0);
+                  vis_.begin() + static_cast<std::ptrdiff_t>((slot + 1) * kBrickVoxels),
+                  -1.0);
       }
     }
     return &bits_[(e - 1) * std::size_t{8}];
@@ -206,9 +212,10 @@ public:
     if (rx >= static_cast<unsigned>(nb_[0]) || ry >= static_cast<unsigned>(nb_[1]) ||
         rz >= static_cast<unsigned>(nb_[2]))
       return nullptr;
-    const std::size_t i = (static_cast<std::size_t>(rz) * static_cast<std::size_t>(nb_[1]) + ry) *
-                              static_cast<std::size_t>(nb_[0]) +
-                          rx;
+    const std::size_t i =
+        (static_cast<std::size_t>(rz) * static_cast<std::size_t>(nb_[1]) + ry) *
+            static_cast<std::size_t>(nb_[0]) +
+        rx;
     std::uint64_t* w = &bits_[i * 8];
     if (stamps_[i] != current_) {
       stamps_[i] = current_;
@@ -272,7 +279,8 @@ struct Segment {
 /// Marks the rays whose image-plane cell may see a (grown) ROI box: its corners'
 /// projection, one cell of margin; all rays of a box with a corner behind the camera.
 void markRays(const Snapshot& snap, const GainConfig& config, const ImagePlane& plane,
-              const Viewpoint& view, const Eigen::Matrix3d& R, std::vector<std::uint8_t>& marks)
+              const Viewpoint& view, const Eigen::Matrix3d& R,
+              std::vector<std::uint8_t>& marks)
 {
   const int n_rays = config.rays_x * config.rays_y;
   marks.assign(static_cast<std::size_t>(n_rays), snap.roi_mode ? 0 : 1);
@@ -412,10 +420,9 @@ ViewGain computeGeneral(const Snapshot& snap, const Bricks<CodeT>& bricks,
       nb[a] = (snap.roi_bbox.hi[a] >> kBrickShift) - b0[a] + 1;
     }
   } else {
-    const int reach =
-        static_cast<int>(
-            std::ceil(config.raycast_range_m * snap.lattice.resolutionFactor())) +
-        2;
+    const int reach = static_cast<int>(std::ceil(config.raycast_range_m *
+                                                 snap.lattice.resolutionFactor())) +
+                      2;
     for (int a = 0; a < 3; ++a) {
       const int lo = std::max(key_origin[a] - reach, 0);
       const int hi = std::min(key_origin[a] + reach, kKeyLimit - 1);
@@ -431,7 +438,8 @@ ViewGain computeGeneral(const Snapshot& snap, const Bricks<CodeT>& bricks,
     if (!scratch.ray_marks[static_cast<std::size_t>(r)])
       continue;
     float end[3];
-    rayEnd(R, view.position, dirs[static_cast<std::size_t>(r)], config.raycast_range_m, end);
+    rayEnd(R, view.position, dirs[static_cast<std::size_t>(r)], config.raycast_range_m,
+           end);
     int key_end[3];
     if (!snap.lattice.coordToKey(end, key_end))
       continue;
@@ -466,7 +474,8 @@ ViewGain computeGeneral(const Snapshot& snap, const Bricks<CodeT>& bricks,
   return result;
 }
 
-// --- the fast kernel (ROI, unweighted) --------------------------------------------------
+// --- the fast kernel (ROI, unweighted)
+// --------------------------------------------------
 
 #define PLANTNBV_ALWAYS_INLINE inline __attribute__((always_inline))
 
@@ -477,11 +486,12 @@ bool brickMatters(const Bricks<CodeT>& bricks, const int b[3])
   const unsigned rx = static_cast<unsigned>(b[0] - bricks.b0[0]);
   const unsigned ry = static_cast<unsigned>(b[1] - bricks.b0[1]);
   const unsigned rz = static_cast<unsigned>(b[2] - bricks.b0[2]);
-  if (rx >= static_cast<unsigned>(bricks.nb[0]) || ry >= static_cast<unsigned>(bricks.nb[1]) ||
+  if (rx >= static_cast<unsigned>(bricks.nb[0]) ||
+      ry >= static_cast<unsigned>(bricks.nb[1]) ||
       rz >= static_cast<unsigned>(bricks.nb[2]))
     return false; // outside: unknown, not in the ROI
-  const std::uint32_t e = bricks.table[bricks.slot(static_cast<int>(rx), static_cast<int>(ry),
-                                                   static_cast<int>(rz))];
+  const std::uint32_t e = bricks.table[bricks.slot(
+      static_cast<int>(rx), static_cast<int>(ry), static_cast<int>(rz))];
   return !(e & kUniform) || (bricks.brick(e)[0] & (kInRoi | kOccupied));
 }
 
@@ -489,7 +499,7 @@ bool brickMatters(const Bricks<CodeT>& bricks, const int b[3])
 template <typename CodeT>
 struct Cursor {
   const CodeT* voxels;
-  bool empty; ///< nothing in the brick counts or stops a ray
+  bool empty;          ///< nothing in the brick counts or stops a ray
   std::uint64_t* seen; ///< null outside the ROI's bricks (no voxel there counts)
 };
 
@@ -512,8 +522,8 @@ PLANTNBV_ALWAYS_INLINE void loadBrick(const Bricks<CodeT>& bricks, RoiSeen& seen
 /// Visits a voxel of the cursor's brick: counts it if it is in the ROI and new; false if
 /// it is occupied (the ray stops after it).
 template <typename CodeT>
-PLANTNBV_ALWAYS_INLINE bool visitVoxel(const Cursor<CodeT>& c, std::uint32_t* counts, int kx,
-                                       int ky, int kz)
+PLANTNBV_ALWAYS_INLINE bool visitVoxel(const Cursor<CodeT>& c, std::uint32_t* counts,
+                                       int kx, int ky, int kz)
 {
   const int local = brickLocal(kx, ky, kz);
   const unsigned code = c.voxels[local];
@@ -534,9 +544,9 @@ struct JumpRay {
   double inv_dir[3]; ///< 1 / OctoMap's float unit direction (0 where it is 0)
   double dt[3];      ///< t_delta
   int step[3];
-  int end[3];        ///< key_end
-  double length;     ///< OctoMap's float length
-  double t_last;     ///< past this nothing counts
+  int end[3];    ///< key_end
+  double length; ///< OctoMap's float length
+  double t_last; ///< past this nothing counts
 };
 
 /// In a brick where nothing matters (nothing in the ROI, nothing occupied): finds where
@@ -549,8 +559,9 @@ struct JumpRay {
 /// step is the end voxel or trips OctoMap's length rule.
 /// \return 1: nothing on the rest of the ray counts (stop it); 0: continue from t, k.
 template <typename CodeT>
-int jumpEmpty(const Bricks<CodeT>& bricks, const JumpRay& ray, const VoxelLattice& lattice,
-              double margin, double t_entry, double t[3], int k[3])
+int jumpEmpty(const Bricks<CodeT>& bricks, const JumpRay& ray,
+              const VoxelLattice& lattice, double margin, double t_entry, double t[3],
+              int k[3])
 {
   const double res = lattice.resolution();
   int b[3] = {k[0] >> kBrickShift, k[1] >> kBrickShift, k[2] >> kBrickShift};
@@ -592,7 +603,8 @@ int jumpEmpty(const Bricks<CodeT>& bricks, const JumpRay& ray, const VoxelLattic
   target = std::min(target, ray.length - 2.0 * res);
   if (target > t_entry)
     for (int a = 0; a < 3; ++a)
-      k[a] += static_cast<int>(rt::advanceWhileBelow(t[a], ray.dt[a], target)) * ray.step[a];
+      k[a] +=
+          static_cast<int>(rt::advanceWhileBelow(t[a], ray.dt[a], target)) * ray.step[a];
   return 0;
 }
 
@@ -624,7 +636,8 @@ ViewGain computeFast(const Snapshot& snap, const Bricks<CodeT>& bricks,
   Eigen::Vector3d table_lo, table_hi;
   for (int a = 0; a < 3; ++a) {
     table_lo[a] = snap.lattice.keyToLowerFace(bricks.b0[a] << kBrickShift);
-    table_hi[a] = snap.lattice.keyToLowerFace((bricks.b0[a] + bricks.nb[a]) << kBrickShift);
+    table_hi[a] =
+        snap.lattice.keyToLowerFace((bricks.b0[a] + bricks.nb[a]) << kBrickShift);
   }
   const ClipBox table_box = {{table_lo[0], table_lo[1], table_lo[2]},
                              {table_hi[0], table_hi[1], table_hi[2]}};
@@ -634,7 +647,8 @@ ViewGain computeFast(const Snapshot& snap, const Bricks<CodeT>& bricks,
     if (!scratch.ray_marks[static_cast<std::size_t>(r)])
       continue;
     float end[3];
-    rayEnd(R, view.position, dirs[static_cast<std::size_t>(r)], config.raycast_range_m, end);
+    rayEnd(R, view.position, dirs[static_cast<std::size_t>(r)], config.raycast_range_m,
+           end);
     int key_end[3];
     if (!snap.lattice.coordToKey(end, key_end))
       continue;
@@ -706,7 +720,8 @@ ViewGain computeFast(const Snapshot& snap, const Bricks<CodeT>& bricks,
     for (;;) {
       // OctoMap's step (ray_traversal.h); a step into a new brick along its axis.
       double t_entry;
-      const int axis = rt::ddaStep(tx, ty, tz, dx, dy, dz, sx, sy, sz, kx, ky, kz, t_entry);
+      const int axis =
+          rt::ddaStep(tx, ty, tz, dx, dy, dz, sx, sy, sz, kx, ky, kz, t_entry);
       const bool new_brick = axis == 0   ? (kx & kBrickMask) == wrap_x
                              : axis == 1 ? (ky & kBrickMask) == wrap_y
                                          : (kz & kBrickMask) == wrap_z;
@@ -756,6 +771,26 @@ ViewGain computeFast(const Snapshot& snap, const Bricks<CodeT>& bricks,
   return result;
 }
 
+/// Whether a ray of some candidate may meet a box of the ROI: both kernels count only
+/// rays whose segment (raycast_range_m long, origin and end in single precision) meets a
+/// box grown by one voxel; a second voxel covers the rounding. When none can, every gain
+/// is 0 without a snapshot, whose table would span from the map to a far ROI.
+bool roiWithinReach(const Roi& roi, const std::vector<Viewpoint>& candidates,
+                    double range_m, double resolution_m)
+{
+  const double reach_m = range_m + 2.0 * resolution_m;
+  for (const Box& b : roi.boxes()) {
+    const Eigen::Vector3d lo = b.min(), hi = b.max();
+    for (const Viewpoint& v : candidates) {
+      const Eigen::Vector3d outside =
+          (lo - v.position).cwiseMax(v.position - hi).cwiseMax(Eigen::Vector3d::Zero());
+      if (!(outside.norm() > reach_m))
+        return true;
+    }
+  }
+  return false;
+}
+
 template <typename CodeT>
 ViewGain computeWith(const Snapshot& snap, const Bricks<CodeT>& bricks,
                      const GainConfig& config, const ImagePlane& plane,
@@ -777,7 +812,8 @@ struct InformationGain::Impl {
   ImagePlane plane;
   std::vector<ThreadScratch> scratch;
 
-  ViewGain compute(const GainConfig& config, ThreadScratch& s, const Viewpoint& view) const
+  ViewGain compute(const GainConfig& config, ThreadScratch& s,
+                   const Viewpoint& view) const
   {
     switch (snapshot.code_bytes) {
     case 1:
@@ -900,6 +936,16 @@ void InformationGain::ensureSnapshot()
 void InformationGain::compute(const std::vector<Viewpoint>& candidates,
                               std::vector<ViewGain>& out)
 {
+  if (map_ && !roi_.empty() &&
+      !roiWithinReach(roi_, candidates, config_.raycast_range_m,
+                      map_->getOcTree().getResolution())) {
+    out.assign(candidates.size(), ViewGain()); // what the kernels give: no ray meets it
+    stats_.rebuilt = false;
+    stats_.gain_ms = 0.0;
+    stats_.candidates = candidates.size();
+    stats_.rays_cast = 0;
+    return;
+  }
   ensureSnapshot();
   const Stopwatch start;
   out.assign(candidates.size(), ViewGain());
@@ -911,9 +957,9 @@ void InformationGain::compute(const std::vector<Viewpoint>& candidates,
   const auto n = static_cast<std::int64_t>(candidates.size());
 #pragma omp parallel for num_threads(threads) schedule(dynamic, 1)
   for (std::int64_t i = 0; i < n; ++i)
-    out[static_cast<std::size_t>(i)] =
-        impl_->compute(config_, impl_->scratch[static_cast<std::size_t>(omp_get_thread_num())],
-                       candidates[static_cast<std::size_t>(i)]);
+    out[static_cast<std::size_t>(i)] = impl_->compute(
+        config_, impl_->scratch[static_cast<std::size_t>(omp_get_thread_num())],
+        candidates[static_cast<std::size_t>(i)]);
   stats_.gain_ms = start.ms();
   stats_.candidates = candidates.size();
   stats_.rays_cast = 0;

@@ -1,5 +1,3 @@
-#include <plantnbv/session/active_vision_session.h>
-
 #include <algorithm>
 #include <cmath>
 #include <numeric>
@@ -10,6 +8,7 @@
 
 #include <plantnbv/camera/optical_frame.h>
 #include <plantnbv/common/error.h>
+#include <plantnbv/session/active_vision_session.h>
 
 namespace plantnbv {
 
@@ -100,6 +99,7 @@ void ActiveVisionSession::setCurrentView(const Viewpoint& view)
 void ActiveVisionSession::integrate(const DepthImage& depth,
                                     const CameraIntrinsics& intrinsics, const Pose& T_W_O)
 {
+  intrinsics.validate();
   depthToCloud(depth, intrinsics, T_W_O, *frame_W_);
   map_->insert(*frame_W_, T_W_O.position);
 }

@@ -122,8 +122,8 @@ struct TrialStep {
 
 /// \brief A frame as the trial integrated it (TrialConfig::depth_scale > 0: rounded).
 struct TrialFrame {
-  int index = 0;      ///< the view's index, 0 = v0
-  Pose T_W_O;         ///< the camera's optical frame, exactly as integrated
+  int index = 0; ///< the view's index, 0 = v0
+  Pose T_W_O;    ///< the camera's optical frame, exactly as integrated
   const DepthImage* depth = nullptr; ///< valid during the callback
 };
 
@@ -150,9 +150,9 @@ struct TrialResult {
 /// trial.run(result);
 /// \endcode
 /// The planner sees only the map, the attention ROI and the candidates; the plant is
-/// used for the sensor's scene and for ground truth (docs/architecture.md). Deterministic: the same
-/// config, plant and seed give the same steps (apart from the timings) on any number of
-/// threads.
+/// used for the sensor's scene and for ground truth (docs/architecture.md).
+/// Deterministic: the same config, plant and seed give the same steps (apart from the
+/// timings) on any number of threads.
 class Trial {
 public:
   explicit Trial(const TrialConfig& config = {});

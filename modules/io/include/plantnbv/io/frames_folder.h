@@ -110,7 +110,8 @@ public:
   /// frames to poses; the PNGs are read by loadDepth.
   /// \throws IoError naming a missing file; FormatError for a bad line, a frame with no
   /// pose near it (unless skip_unmatched), a folder with no frame.
-  explicit FramesFolder(const std::string& folder, const FramesFolderOptions& options = {});
+  explicit FramesFolder(const std::string& folder,
+                        const FramesFolderOptions& options = {});
 
   const std::string& folder() const { return folder_; }
   const CameraInfo& camera() const { return camera_; }

@@ -8,11 +8,11 @@
 #include <memory>
 #include <vector>
 
-#include <plantnbv/common/pcl_fwd.h>
-#include <plantnbv/common/pose.h>
 #include <plantnbv/camera/camera_intrinsics.h>
 #include <plantnbv/camera/depth_image.h>
 #include <plantnbv/camera/optical_frame.h>
+#include <plantnbv/common/pcl_fwd.h>
+#include <plantnbv/common/pose.h>
 #include <plantnbv/sensor/noise_model.h>
 #include <plantnbv/sensor/sensor_scene.h>
 

@@ -107,7 +107,8 @@ public:
   /// \brief Integrates a depth frame: depthToCloud (camera/depth_image.h), then the
   /// map's update from the optical centre.
   /// \param[in] T_W_O the optical frame (z forward, x right, y down) in the world.
-  /// \throws InvalidArgumentError as depthToCloud and OccupancyMap::insert.
+  /// \throws InvalidArgumentError as CameraIntrinsics::validate, depthToCloud and
+  /// OccupancyMap::insert.
   void integrate(const DepthImage& depth, const CameraIntrinsics& intrinsics,
                  const Pose& T_W_O);
   /// \brief Integrates a cloud in the world frame seen from `origin_W`.
