@@ -196,6 +196,36 @@ TEST(InformationGain, AnRoiOutOfEveryCandidatesReachGainsNothingHoweverFar)
   EXPECT_EQ(gain.getLastStats().rays_cast, 0u);
 }
 
+TEST(InformationGain, AFarBoxOfAnRoiChangesNoGainAndNoSnapshot)
+{
+  // One box on the plant, one 50 m away: the gains are those of the near box alone (the
+  // far one is out of every ray's reach), and the snapshot does not span the 50 m.
+  const auto map = test::plantMap();
+  const Box near(Eigen::Vector3d(1.0, 0.0, 1.15), Eigen::Vector3d(0.1, 0.1, 0.2));
+  const Box far(Eigen::Vector3d(50.0, 50.0, 50.0), Eigen::Vector3d(0.1, 0.1, 0.1));
+  const std::vector<Viewpoint> views = {test::paperV0()};
+  InformationGain both, alone;
+  both.setInputMap(map);
+  alone.setInputMap(map);
+  both.setRoi(Roi({near, far}));
+  alone.setRoi(Roi({near}));
+  std::vector<ViewGain> a, b;
+  both.compute(views, a);
+  alone.compute(views, b);
+  ASSERT_EQ(a.size(), 1u);
+  EXPECT_GT(a[0].gain, 0.0);
+  EXPECT_EQ(a[0].gain, b[0].gain);
+  EXPECT_EQ(a[0].voxels_seen, b[0].voxels_seen);
+  EXPECT_EQ(both.getLastStats().bricks, alone.getLastStats().bricks);
+  EXPECT_NEAR(
+      a[0].gain,
+      referenceInformationGain(*map, Roi({near, far}), GainConfig(), views[0]).gain,
+      1e-6 * a[0].gain);
+  // The same candidates again: the snapshot is reused.
+  both.compute(views, a);
+  EXPECT_FALSE(both.getLastStats().rebuilt);
+}
+
 TEST(InformationGain, VoxelsBehindAWallDoNotCount)
 {
   auto map = std::make_shared<OccupancyMap>();

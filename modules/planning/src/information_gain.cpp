@@ -771,24 +771,29 @@ ViewGain computeFast(const Snapshot& snap, const Bricks<CodeT>& bricks,
   return result;
 }
 
-/// Whether a ray of some candidate may meet a box of the ROI: both kernels count only
+/// The boxes of the ROI that a ray of some candidate may meet: both kernels count only
 /// rays whose segment (raycast_range_m long, origin and end in single precision) meets a
-/// box grown by one voxel; a second voxel covers the rounding. When none can, every gain
-/// is 0 without a snapshot, whose table would span from the map to a far ROI.
-bool roiWithinReach(const Roi& roi, const std::vector<Viewpoint>& candidates,
-                    double range_m, double resolution_m)
+/// box grown by one voxel; a second voxel covers the rounding. The others add nothing to
+/// any gain; left out of the snapshot, they cannot stretch its table from the map to a
+/// far box.
+std::vector<std::size_t> boxesWithinReach(const Roi& roi,
+                                          const std::vector<Viewpoint>& candidates,
+                                          double range_m, double resolution_m)
 {
   const double reach_m = range_m + 2.0 * resolution_m;
-  for (const Box& b : roi.boxes()) {
-    const Eigen::Vector3d lo = b.min(), hi = b.max();
+  std::vector<std::size_t> reachable;
+  for (std::size_t i = 0; i < roi.boxes().size(); ++i) {
+    const Eigen::Vector3d lo = roi.boxes()[i].min(), hi = roi.boxes()[i].max();
     for (const Viewpoint& v : candidates) {
       const Eigen::Vector3d outside =
           (lo - v.position).cwiseMax(v.position - hi).cwiseMax(Eigen::Vector3d::Zero());
-      if (!(outside.norm() > reach_m))
-        return true;
+      if (!(outside.norm() > reach_m)) {
+        reachable.push_back(i);
+        break;
+      }
     }
   }
-  return false;
+  return reachable;
 }
 
 template <typename CodeT>
@@ -808,6 +813,9 @@ ViewGain computeWith(const Snapshot& snap, const Bricks<CodeT>& bricks,
 
 struct InformationGain::Impl {
   Snapshot snapshot;
+  /// The ROI's boxes the snapshot holds (all after update(); those within the
+  /// candidates' reach after compute()).
+  std::vector<std::size_t> snapshot_boxes;
   std::vector<Eigen::Vector3d> dirs_C; ///< the rays (per config)
   ImagePlane plane;
   std::vector<ThreadScratch> scratch;
@@ -911,9 +919,21 @@ void InformationGain::update()
 {
   if (!map_)
     throw InvalidArgumentError("InformationGain::update: no map set (setInputMap)");
+  std::vector<std::size_t> all(roi_.boxes().size());
+  for (std::size_t i = 0; i < all.size(); ++i)
+    all[i] = i;
+  buildSnapshot(all);
+}
+
+void InformationGain::buildSnapshot(const std::vector<std::size_t>& boxes)
+{
   const Stopwatch start;
   stats_.map_revision = map_->revision();
-  impl_->snapshot.build(map_->getOcTree(), roi_, config_.visibility_weighted);
+  Roi roi;
+  for (std::size_t i : boxes)
+    roi.addBox(roi_.boxes()[i]);
+  impl_->snapshot.build(map_->getOcTree(), roi, config_.visibility_weighted);
+  impl_->snapshot_boxes = boxes;
   dirty_ = false;
   stats_.update_ms = start.ms();
   stats_.bricks = impl_->snapshot.brick_count;
@@ -921,14 +941,14 @@ void InformationGain::update()
   stats_.leaves = impl_->snapshot.leaf_count;
 }
 
-void InformationGain::ensureSnapshot()
+void InformationGain::ensureSnapshot(const std::vector<std::size_t>& boxes)
 {
   if (!map_)
     throw InvalidArgumentError("InformationGain::compute: no map set (setInputMap)");
   stats_.rebuilt = false;
   if (dirty_ || !impl_->snapshot.built || map_->revision() != stats_.map_revision ||
-      &map_->getOcTree() != impl_->snapshot.tree) {
-    update();
+      &map_->getOcTree() != impl_->snapshot.tree || impl_->snapshot_boxes != boxes) {
+    buildSnapshot(boxes);
     stats_.rebuilt = true;
   }
 }
@@ -936,9 +956,11 @@ void InformationGain::ensureSnapshot()
 void InformationGain::compute(const std::vector<Viewpoint>& candidates,
                               std::vector<ViewGain>& out)
 {
-  if (map_ && !roi_.empty() &&
-      !roiWithinReach(roi_, candidates, config_.raycast_range_m,
-                      map_->getOcTree().getResolution())) {
+  if (!map_)
+    throw InvalidArgumentError("InformationGain::compute: no map set (setInputMap)");
+  const std::vector<std::size_t> boxes = boxesWithinReach(
+      roi_, candidates, config_.raycast_range_m, map_->getOcTree().getResolution());
+  if (!roi_.empty() && boxes.empty()) {
     out.assign(candidates.size(), ViewGain()); // what the kernels give: no ray meets it
     stats_.rebuilt = false;
     stats_.gain_ms = 0.0;
@@ -946,7 +968,7 @@ void InformationGain::compute(const std::vector<Viewpoint>& candidates,
     stats_.rays_cast = 0;
     return;
   }
-  ensureSnapshot();
+  ensureSnapshot(boxes);
   const Stopwatch start;
   out.assign(candidates.size(), ViewGain());
   const int threads =

@@ -48,10 +48,10 @@ struct GainConfig {
 
 /// \brief What one candidate would see.
 struct ViewGain {
-  double gain = 0.0;             ///< G_v (bits), paper eq. (2)/(3)
-  std::size_t voxels_seen = 0;   ///< |X_v| inside the ROI (all of X_v when no ROI)
-  std::size_t unknown_seen = 0;  ///< of those, unknown
-  std::size_t rays_cast = 0;     ///< rays that could meet the ROI (others skipped)
+  double gain = 0.0;            ///< G_v (bits), paper eq. (2)/(3)
+  std::size_t voxels_seen = 0;  ///< |X_v| inside the ROI (all of X_v when no ROI)
+  std::size_t unknown_seen = 0; ///< of those, unknown
+  std::size_t rays_cast = 0;    ///< rays that could meet the ROI (others skipped)
 };
 
 /// \brief The expected information gain of candidate views on an OccupancyMap (paper
@@ -95,14 +95,14 @@ public:
 
   /// \brief Timings and sizes of the last update() and compute().
   struct Stats {
-    double update_ms = 0.0;        ///< the last snapshot rebuild (update() or compute())
-    bool rebuilt = false;          ///< whether the last compute() rebuilt the snapshot
-    double gain_ms = 0.0;          ///< last compute(), without the rebuild
-    std::size_t candidates = 0;    ///< of the last compute()
-    std::size_t rays_cast = 0;     ///< total over its candidates
-    std::size_t bricks = 0;        ///< 8^3-voxel bricks stored in the snapshot
-    std::size_t values = 0;        ///< distinct log-odds values in the snapshot
-    std::size_t leaves = 0;        ///< octree leaves copied into the snapshot
+    double update_ms = 0.0;         ///< the last snapshot rebuild (update() or compute())
+    bool rebuilt = false;           ///< whether the last compute() rebuilt the snapshot
+    double gain_ms = 0.0;           ///< last compute(), without the rebuild
+    std::size_t candidates = 0;     ///< of the last compute()
+    std::size_t rays_cast = 0;      ///< total over its candidates
+    std::size_t bricks = 0;         ///< 8^3-voxel bricks stored in the snapshot
+    std::size_t values = 0;         ///< distinct log-odds values in the snapshot
+    std::size_t leaves = 0;         ///< octree leaves copied into the snapshot
     std::uint64_t map_revision = 0; ///< the map's revision() the snapshot was built at
   };
 
@@ -136,6 +136,9 @@ public:
   void update();
 
   /// \brief Gains of all candidates (parallel over candidates), in the order given.
+  /// ROI boxes out of every candidate's reach (farther than raycast_range_m plus two
+  /// voxels) add nothing to any gain and are left out of the snapshot (so a far box
+  /// costs nothing); when no box is within reach every gain is 0, without a snapshot.
   /// \param[out] out resized to candidates.size().
   /// \throws InvalidArgumentError if no map is set.
   void compute(const std::vector<Viewpoint>& candidates, std::vector<ViewGain>& out);
@@ -148,7 +151,10 @@ public:
   struct Impl;
 
 private:
-  void ensureSnapshot();
+  /// Builds the snapshot unless it is up to date and holds exactly these ROI boxes.
+  void ensureSnapshot(const std::vector<std::size_t>& boxes);
+  /// The snapshot of the map with these boxes of the ROI (indices into roi_).
+  void buildSnapshot(const std::vector<std::size_t>& boxes);
 
   GainConfig config_;
   std::shared_ptr<const OccupancyMap> map_;
@@ -162,11 +168,11 @@ private:
 /// \brief The straightforward reference on the octree (kept for tests and the
 /// benchmark): per ray, OctoMap's computeRayKeys + the end key, a tree search per voxel,
 /// stop at the first occupied voxel (it counts), a std::unordered_set of keys for X_v,
-/// then the sum of entropies of the keys whose voxel centre lies in the ROI (Roi::contains
-/// on the centre; empty ROI: all). With visibility_weighted: no stop, a map from key to
-/// its largest visibility. Rays are those of InformationGain (same ends, same order);
-/// rays_cast counts every ray inside the octree. Single-threaded.
-/// \throws InvalidArgumentError as GainConfig::validate().
+/// then the sum of entropies of the keys whose voxel centre lies in the ROI
+/// (Roi::contains on the centre; empty ROI: all). With visibility_weighted: no stop, a
+/// map from key to its largest visibility. Rays are those of InformationGain (same ends,
+/// same order); rays_cast counts every ray inside the octree. Single-threaded. \throws
+/// InvalidArgumentError as GainConfig::validate().
 ViewGain referenceInformationGain(const OccupancyMap& map, const Roi& roi,
                                   const GainConfig& config, const Viewpoint& view);
 
