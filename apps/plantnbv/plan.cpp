@@ -18,6 +18,7 @@
 #include <plantnbv/common/roi_kind.h>
 #include <plantnbv/common/stopwatch.h>
 #include <plantnbv/experiment/trial.h>
+#include <plantnbv/io/file_kind.h>
 #include <plantnbv/io/frames_folder.h>
 #include <plantnbv/io/roi_io.h>
 #include <plantnbv/plant/plant_rois.h>
@@ -160,10 +161,9 @@ void runPlan(const PlanOptions& o)
   if (o.threads)
     config.threads = *o.threads;
   sector.validate();
-  const CameraIntrinsics camera =
-      o.camera.size() > 5 && o.camera.substr(o.camera.size() - 5) == ".yaml"
-          ? io::readCameraInfo(o.camera).intrinsics
-          : parseCameraIntrinsics(o.camera);
+  const CameraIntrinsics camera = io::extensionOf(o.camera) == ".yaml"
+                                      ? io::readCameraInfo(o.camera).intrinsics
+                                      : parseCameraIntrinsics(o.camera);
   std::optional<Pose> current;
   if (!o.current_pose.empty())
     current = parsePose(o.current_pose, "--current-pose");

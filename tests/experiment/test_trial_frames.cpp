@@ -32,6 +32,9 @@
 #include <plantnbv/sensor/simulated_depth_sensor.h>
 #include <plantnbv/session/active_vision_session.h>
 
+#include "octree_leaves.h"
+#include "temp_dir.h"
+
 using namespace plantnbv;
 
 namespace {
@@ -66,20 +69,6 @@ std::vector<EvaluationLevel> levelsOf(const Plant& plant)
           {"leaf_nodes", leafNodeRoi(plant), true}};
 }
 
-using Leaf = std::tuple<unsigned, unsigned, unsigned, unsigned, float>;
-
-/// Key, depth and log-odds of every leaf, sorted, for exact comparisons.
-std::vector<Leaf> leaves(const OccupancyMap& map)
-{
-  std::vector<Leaf> out;
-  const octomap::OcTree& tree = map.getOcTree();
-  for (auto it = tree.begin_leafs(); it != tree.end_leafs(); ++it)
-    out.emplace_back(it.getKey()[0], it.getKey()[1], it.getKey()[2], it.getDepth(),
-                     it->getLogOdds());
-  std::sort(out.begin(), out.end());
-  return out;
-}
-
 /// Bit-wise equality of two depth images (NaN == NaN).
 bool sameDepth(const DepthImage& a, const DepthImage& b)
 {
@@ -92,31 +81,6 @@ bool sameDepth(const DepthImage& a, const DepthImage& b)
   }
   return true;
 }
-
-/// A scratch folder, removed with its contents.
-class TempDir {
-public:
-  TempDir()
-  {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    path_ = std::filesystem::temp_directory_path() /
-            ("plantnbv_" + std::string(info->test_suite_name()) + "_" + info->name() +
-             "_" + std::to_string(::getpid()));
-    std::filesystem::remove_all(path_);
-    std::filesystem::create_directories(path_);
-  }
-  ~TempDir()
-  {
-    std::error_code ec;
-    std::filesystem::remove_all(path_, ec);
-  }
-  TempDir(const TempDir&) = delete;
-  TempDir& operator=(const TempDir&) = delete;
-  std::string path(const std::string& name) const { return (path_ / name).string(); }
-
-private:
-  std::filesystem::path path_;
-};
 
 /// Everything of two trials but their timings, bit for bit.
 void expectSameSteps(const TrialResult& a, const TrialResult& b)
@@ -277,8 +241,8 @@ void expectFramesReplayToTheTrialsMap(const TrialConfig& config,
     EXPECT_TRUE(sameDepth(depth, depths[i])) << i;
     session.integrate(depth, K, T_W_O);
   }
-  const std::vector<Leaf> replayed = leaves(*session.getMap());
-  const std::vector<Leaf> trials = leaves(trial.getMap());
+  const std::vector<test::OcTreeLeaf> replayed = test::octreeLeaves(*session.getMap());
+  const std::vector<test::OcTreeLeaf> trials = test::octreeLeaves(trial.getMap());
   EXPECT_GT(trial.getMap().countVoxels().occupied, 1000u);
   ASSERT_EQ(replayed.size(), trials.size());
   EXPECT_TRUE(replayed == trials);
@@ -292,8 +256,8 @@ TEST(TrialFrames, FramesReplayToTheTrialsMapBitForBit)
 {
   TrialConfig config = smallConfig(3);
   config.depth_scale = 1000.0;
-  TempDir dir;
-  expectFramesReplayToTheTrialsMap(config, dir.path("frames"));
+  test::TempDir dir;
+  expectFramesReplayToTheTrialsMap(config, dir.file("frames"));
 }
 
 TEST(TrialFrames, NoisyFramesReplayToTheTrialsMapBitForBit)
@@ -301,8 +265,8 @@ TEST(TrialFrames, NoisyFramesReplayToTheTrialsMapBitForBit)
   TrialConfig config = smallConfig(3);
   config.depth_scale = 1000.0;
   config.noise.enabled = true;
-  TempDir dir;
-  expectFramesReplayToTheTrialsMap(config, dir.path("frames"));
+  test::TempDir dir;
+  expectFramesReplayToTheTrialsMap(config, dir.file("frames"));
 }
 
 TEST(TrialFrames, FloatDepthTrialIsThePlannerLoopOnTheSensorsClouds)
@@ -340,7 +304,7 @@ TEST(TrialFrames, FloatDepthTrialIsThePlannerLoopOnTheSensorsClouds)
   const double a = double(result.steps[0].occupied_voxels);
   const double b = double(rounded_result.steps[0].occupied_voxels);
   std::printf("v0 occupied voxels: float depth %.0f, millimetre depth %.0f\n", a, b);
-  EXPECT_NE(leaves(rounded_trial.getMap()).size(), 0u);
+  EXPECT_NE(test::octreeLeaves(rounded_trial.getMap()).size(), 0u);
   EXPECT_LT(std::abs(a - b), 0.02 * a);
 }
 

@@ -13,6 +13,8 @@
 #include <plantnbv/common/error.h>
 #include <plantnbv/session/active_vision_session.h>
 
+#include "octree_leaves.h"
+
 namespace plantnbv {
 namespace {
 
@@ -38,19 +40,6 @@ DepthImage board(const CameraIntrinsics& K, float distance_m)
   return depth;
 }
 
-/// Log-odds of every leaf, keyed by (key, depth), for exact comparisons.
-std::vector<std::tuple<unsigned, unsigned, unsigned, unsigned, float>>
-leaves(const OccupancyMap& map)
-{
-  std::vector<std::tuple<unsigned, unsigned, unsigned, unsigned, float>> out;
-  const octomap::OcTree& tree = map.getOcTree();
-  for (auto it = tree.begin_leafs(); it != tree.end_leafs(); ++it)
-    out.emplace_back(it.getKey()[0], it.getKey()[1], it.getKey()[2], it.getDepth(),
-                     it->getLogOdds());
-  std::sort(out.begin(), out.end());
-  return out;
-}
-
 TEST(ActiveVisionSession, ADepthFrameGivesTheMapOfItsBackProjectedCloud)
 {
   const CameraIntrinsics K = smallCamera();
@@ -65,7 +54,8 @@ TEST(ActiveVisionSession, ADepthFrameGivesTheMapOfItsBackProjectedCloud)
   from_cloud.integrate(cloud, T_W_O.position);
 
   EXPECT_GT(from_depth.getMap()->countVoxels().occupied, 0u);
-  EXPECT_EQ(leaves(*from_depth.getMap()), leaves(*from_cloud.getMap()));
+  EXPECT_EQ(test::octreeLeaves(*from_depth.getMap()),
+            test::octreeLeaves(*from_cloud.getMap()));
   // A pixel's point is occupied, the voxel half-way there is free.
   const Eigen::Vector3d point = cloud.at(10, 20).getVector3fMap().cast<double>();
   EXPECT_EQ(from_depth.getMap()->state(point), VoxelState::occupied);
@@ -151,7 +141,7 @@ TEST(ActiveVisionSession, AMapWrittenAsOtReadsBackWithItsLogOdds)
   session.writeMap(bt);
   ActiveVisionSession loaded;
   EXPECT_TRUE(loaded.readMap(ot));
-  EXPECT_EQ(leaves(*loaded.getMap()), leaves(*session.getMap()));
+  EXPECT_EQ(test::octreeLeaves(*loaded.getMap()), test::octreeLeaves(*session.getMap()));
   EXPECT_FALSE(loaded.readMap(bt)); // maximum likelihood
   EXPECT_EQ(loaded.getMap()->countVoxels().occupied,
             session.getMap()->countVoxels().occupied);

@@ -43,20 +43,6 @@ std::string inQuotes(const std::string& path)
   throw FormatError(inQuotes(path) + " line " + std::to_string(line) + ": " + message);
 }
 
-/// The whitespace-separated fields of a line, or none for a blank or '#' line.
-std::vector<std::string> fieldsOf(const std::string& line)
-{
-  std::vector<std::string> fields;
-  std::istringstream in(line);
-  std::string field;
-  while (in >> field) {
-    if (fields.empty() && field[0] == '#')
-      return {};
-    fields.push_back(field);
-  }
-  return fields;
-}
-
 /// A whole field as a finite number, else a message naming it. An overflow reads as
 /// inf and is refused; an underflow (ERANGE with a subnormal or 0, such as the
 /// 4.9406564584124654e-324 that FramesFolderWriter writes) is the nearest double, kept.
@@ -73,21 +59,36 @@ double finiteNumber(const std::string& path, std::size_t line, const std::string
   return value;
 }
 
-/// The lines of a small text file, refused over kMaxListBytes.
-std::vector<std::string> readLines(const std::string& path)
+/// A line of a TUM text file that holds data: its number (from 1) and its
+/// whitespace-separated fields.
+struct Record {
+  std::size_t line = 0;
+  std::vector<std::string> fields;
+};
+
+/// The records of a small text file (refused over kMaxListBytes): blank lines and lines
+/// whose first field starts with '#' are skipped; a Windows line end is one.
+std::vector<Record> readRecords(const std::string& path)
 {
   InputLimits limits = defaultInputLimits();
   if (limits.max_file_bytes == 0 || limits.max_file_bytes > kMaxListBytes)
     limits.max_file_bytes = kMaxListBytes;
   std::istringstream in(detail::readFileToString(path, limits));
-  std::vector<std::string> lines;
-  std::string line;
-  while (std::getline(in, line)) {
-    if (!line.empty() && line.back() == '\r')
-      line.pop_back();
-    lines.push_back(line);
+  std::vector<Record> records;
+  std::string text;
+  for (std::size_t line = 1; std::getline(in, text); ++line) {
+    std::istringstream words(text); // '\r' is whitespace
+    Record r;
+    r.line = line;
+    for (std::string field; words >> field;) {
+      if (r.fields.empty() && field[0] == '#')
+        break;
+      r.fields.push_back(field);
+    }
+    if (!r.fields.empty())
+      records.push_back(std::move(r));
   }
-  return lines;
+  return records;
 }
 
 void readPinholeMatrix(const YamlReader& reader, const YAML::Node& node,
@@ -249,12 +250,9 @@ void writeCameraInfo(const std::string& path, const CameraInfo& info)
 std::vector<StampedFile> readTumFileList(const std::string& path)
 {
   std::vector<StampedFile> files;
-  const std::vector<std::string> lines = readLines(path);
-  for (std::size_t i = 0; i < lines.size(); ++i) {
-    const std::vector<std::string> fields = fieldsOf(lines[i]);
-    if (fields.empty())
-      continue;
-    const std::size_t line = i + 1;
+  for (const Record& r : readRecords(path)) {
+    const std::vector<std::string>& fields = r.fields;
+    const std::size_t line = r.line;
     if (fields.size() != 2)
       failLine(path, line,
                "expected 'timestamp filename', got " + std::to_string(fields.size()) +
@@ -274,13 +272,10 @@ std::vector<StampedFile> readTumFileList(const std::string& path)
 std::vector<StampedPose> readTumTrajectory(const std::string& path)
 {
   std::vector<StampedPose> poses;
-  const std::vector<std::string> lines = readLines(path);
   static const char* kNames[] = {"timestamp", "tx", "ty", "tz", "qx", "qy", "qz", "qw"};
-  for (std::size_t i = 0; i < lines.size(); ++i) {
-    const std::vector<std::string> fields = fieldsOf(lines[i]);
-    if (fields.empty())
-      continue;
-    const std::size_t line = i + 1;
+  for (const Record& r : readRecords(path)) {
+    const std::vector<std::string>& fields = r.fields;
+    const std::size_t line = r.line;
     if (fields.size() != 8)
       failLine(path, line,
                "expected 8 numbers 'timestamp tx ty tz qx qy qz qw', got " +

@@ -861,9 +861,7 @@ OccupancyMap::VoxelCounts OccupancyMap::countVoxels() const
 std::unique_ptr<OccupancyMap> OccupancyMap::read(const std::string& path, Config config,
                                                  bool* maximum_likelihood)
 {
-  std::unique_ptr<octomap::OcTree> tree = readOcTree(path);
-  if (maximum_likelihood)
-    *maximum_likelihood = isBinaryOcTreeFile(path);
+  std::unique_ptr<octomap::OcTree> tree = readOcTree(path, maximum_likelihood);
   config.resolution_m = tree->getResolution();
   auto map = std::make_unique<OccupancyMap>(config);
   tree->setProbHit(config.prob_hit);

@@ -182,14 +182,8 @@ std::unique_ptr<octomap::OcTree> cloudToOcTree(const CloudXYZ& cloud, double res
   return tree;
 }
 
-bool isBinaryOcTreeFile(const std::string& path)
-{
-  std::ifstream in(path, std::ios::binary);
-  std::string first_line;
-  return in && std::getline(in, first_line) && startsWith(first_line, kBinaryHeader);
-}
-
-std::unique_ptr<octomap::OcTree> readOcTree(const std::string& path)
+std::unique_ptr<octomap::OcTree> readOcTree(const std::string& path,
+                                            bool* maximum_likelihood)
 {
   // Checked here so that a missing file is an IoError before OctoMap prints anything.
   std::error_code ec;
@@ -206,6 +200,8 @@ std::unique_ptr<octomap::OcTree> readOcTree(const std::string& path)
   std::getline(in, first_line);
   const bool binary = startsWith(first_line, kBinaryHeader);
   if (binary || startsWith(first_line, kFullHeader)) {
+    if (maximum_likelihood)
+      *maximum_likelihood = binary;
     // The rest of OctoMap's header (AbstractOcTree::readHeader), read here because the
     // library's readers print to stdout and stderr: "id", "size", "res", comments,
     // "data"; then the nodes, in OctoMap's binary or full layout.

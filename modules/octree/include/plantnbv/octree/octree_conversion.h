@@ -46,10 +46,9 @@ std::unique_ptr<octomap::OcTree> cloudToOcTree(const CloudXYZ& cloud, double res
 /// header line decides which, not its extension.
 /// \throws IoError if missing or unreadable; FormatError if it is not an OctoMap file
 /// or holds another tree type (e.g. a ColorOcTree).
-std::unique_ptr<octomap::OcTree> readOcTree(const std::string& path);
-/// \brief Whether `path` starts with the header of a .bt file (maximum likelihood);
-/// false for a .ot or any other file.
-bool isBinaryOcTreeFile(const std::string& path);
+/// \param[out] maximum_likelihood if not null, whether the file was a .bt.
+std::unique_ptr<octomap::OcTree> readOcTree(const std::string& path,
+                                            bool* maximum_likelihood = nullptr);
 
 /// \brief Writes .bt (writeBinaryConst) or .ot (write), by extension, as OctoMap's
 /// own tools (octovis, binvox2bt) read them; .bt stores occupied / free only (the tree

@@ -1,9 +1,9 @@
 #pragma once
 /// \file ray_traversal.h
 /// \brief OctoMap's ray traversal (OcTreeBaseImpl::computeRayKeys), copied operation for
-/// operation so that code which must visit exactly OctoMap's voxels (OccupancyMap::insert,
-/// the planner's information gain) shares one copy. Keys and centres come from the
-/// voxel lattice (plantnbv/common/voxel_lattice.h).
+/// operation so that code which must visit exactly OctoMap's voxels
+/// (OccupancyMap::insert, the planner's information gain) shares one copy. Keys and
+/// centres come from the voxel lattice (plantnbv/common/voxel_lattice.h).
 ///
 /// Exactness needs the including source file to round like OctoMap: compile it with
 /// `-ffp-contract=off` (no fused multiply-add) and without `-ffast-math`.
@@ -135,7 +135,8 @@ inline long long advanceWhileBelow(double& t, double delta, double target)
   while (t < target) {
     std::uint64_t bits;
     std::memcpy(&bits, &t, sizeof bits);
-    const int biased = static_cast<int>((bits >> 52) & 0x7ff); // t in [2^(b-1023), 2^(b-1022))
+    const int biased =
+        static_cast<int>((bits >> 52) & 0x7ff); // t in [2^(b-1023), 2^(b-1022))
     const std::uint64_t top_bits = static_cast<std::uint64_t>(biased + 1) << 52;
     double top;
     std::memcpy(&top, &top_bits, sizeof top);
@@ -149,13 +150,15 @@ inline long long advanceWhileBelow(double& t, double delta, double target)
       std::memcpy(&inv_ulp, &inv_ulp_bits, sizeof inv_ulp);
       const double q = delta * inv_ulp; // delta / ulp, exact: a power-of-two scaling
       // floor(q) by truncation (q > 0); exact halves are the ties-to-even case.
-      const double whole = q < 0x1p52 ? static_cast<double>(static_cast<long long>(q)) : q;
+      const double whole =
+          q < 0x1p52 ? static_cast<double>(static_cast<long long>(q)) : q;
       if (q < 0x1p52 && q - whole != 0.5) {
         const double step = (q - whole < 0.5 ? whole : whole + 1.0) * ulp; // exact
         const double limit = std::min(target, top);
         // The smallest m >= 1 with t + m step >= limit (sums below `top` are exact):
         // estimated, then corrected by exact tests.
-        double m = static_cast<double>(static_cast<long long>((limit - t) * inv_delta)) + 1.0;
+        double m =
+            static_cast<double>(static_cast<long long>((limit - t) * inv_delta)) + 1.0;
         while (m > 1.0 && t + (m - 1.0) * step >= limit)
           m -= 1.0;
         while (t + m * step < limit)
@@ -198,8 +201,9 @@ void traverseRay(const float origin[3], const float end[3], const int key_origin
   RaySetup s;
   if (!setupRay(origin, end, key_origin, key_end, lattice, s))
     return;
-  if (!detail::proceed(
-          [&] { return visitor.begin(key_origin[0], key_origin[1], key_origin[2], s.step); }))
+  if (!detail::proceed([&] {
+        return visitor.begin(key_origin[0], key_origin[1], key_origin[2], s.step);
+      }))
     return;
 
   // The loop in scalars, not arrays indexed by the axis, which the compiler keeps in
