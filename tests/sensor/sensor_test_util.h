@@ -91,7 +91,9 @@ inline Eigen::Vector3d pixelRay(const CameraIntrinsics& K, const Pose& T_W_C, do
 }
 
 /// Nearest hit of a ray with a mesh (Moller-Trumbore in double, both sides); infinity
-/// if none.
+/// if none. Barycentric bounds have a tolerance of 1e-9: Moller-Trumbore is not
+/// watertight, and a ray through a shared edge can miss both of its triangles by a
+/// rounding error (a pixel ray in the plane of a sphere's meridian does).
 inline double referenceRange(const TriangleMesh& mesh, const Eigen::Vector3d& o,
                              const Eigen::Vector3d& d)
 {
@@ -106,11 +108,12 @@ inline double referenceRange(const TriangleMesh& mesh, const Eigen::Vector3d& o,
       continue;
     const Eigen::Vector3d s = o - a;
     const double bu = s.dot(p) / det;
-    if (bu < 0.0 || bu > 1.0)
+    constexpr double kTolerance = 1e-9;
+    if (bu < -kTolerance || bu > 1.0 + kTolerance)
       continue;
     const Eigen::Vector3d q = s.cross(e1);
     const double bv = d.dot(q) / det;
-    if (bv < 0.0 || bu + bv > 1.0)
+    if (bv < -kTolerance || bu + bv > 1.0 + kTolerance)
       continue;
     const double range = e2.dot(q) / det;
     if (range > 0.0 && range < best)
