@@ -148,6 +148,129 @@ TEST(MeshIo, ColladaDefaultsAndXUp)
   expectBounds(x, {-0.0508f, -0.127f, 0.0f}, {0.0f, -0.127f, 0.0254f});
 }
 
+TEST(MeshIo, ColladaAccessorsOutsideTheirArraysAreRefusedBeforeAssimp)
+{
+  // Assimp 5.2.5 reads an accessor's values without a bound: an empty array or a
+  // Name_array behind the positions is a null read (found by fuzzing), a short array a
+  // read past its end. Each file is refused with the line and what is wrong.
+  TempDir dir;
+  const std::string good = oneTriangleCollada("");
+  auto variant = [&](const std::string& from, const std::string& to) {
+    std::string text = good;
+    const std::size_t at = text.find(from);
+    EXPECT_NE(at, std::string::npos) << from;
+    return text.replace(at, from.size(), to);
+  };
+  const std::string array = R"(<float_array id="pa" count="9">0 0 0  1 0 0  0 2 0</float_array>)";
+  const std::string accessor = R"(<accessor source="#pa" count="3" stride="3">)";
+  const struct {
+    std::string name, text, message;
+  } cases[] = {
+      {"empty", variant(array, R"(<float_array id="pa" count="0"></float_array>)"),
+       "line 7: <accessor> reads 3 x stride 3 values from offset 0 of 'pa', which holds 0"},
+      {"short", variant(array, R"(<float_array id="pa" count="8">0 0 0 1 0 0 0 2</float_array>)"),
+       "which holds 8"},
+      {"offset", variant(accessor, R"(<accessor source="#pa" count="3" stride="3" offset="1">)"),
+       "from offset 1 of 'pa', which holds 9"},
+      {"names", variant(array, R"(<Name_array id="pa" count="9">a b c d e f g h i</Name_array>)"),
+       "<accessor> of a <mesh> reads 'pa', which holds names, not numbers"},
+      {"stride0", variant(accessor, R"(<accessor source="#pa" count="3" stride="0">)"),
+       "stride must be at least 1"},
+      {"params", variant(accessor, R"(<accessor source="#pa" count="4" stride="2">)"),
+       "<accessor> has 3 <param>s, more than its stride 2"},
+      {"nosource", variant(accessor, R"(<accessor count="3" stride="3">)"),
+       "needs a source attribute '#id'"},
+      {"dangling", variant(accessor, R"(<accessor source="#nothing" count="3" stride="3">)"),
+       "source '#nothing' names no array of the file"},
+      {"commented",
+       variant(array, R"(<!-- <float_array id="pa" count="9"> --><float_array id="pb" count="9">0 0 0 1 0 0 0 2 0</float_array>)"),
+       "source '#pa' names no array of the file"},
+      {"twice", variant(array, array + array), "<float_array> id 'pa' is not unique"},
+      {"count", variant(accessor, R"(<accessor source="#pa" count="-3" stride="3">)"),
+       "<accessor> count '-3' is not a non-negative integer"},
+  };
+  for (const auto& c : cases) {
+    const std::string msg =
+        thrownMessage<FormatError>([&] { loadMesh(dir.write(c.name + ".dae", c.text)); });
+    EXPECT_NE(msg.find(c.message), std::string::npos) << c.name << ": " << msg;
+  }
+  // A comment or CDATA that holds markup changes nothing else.
+  const TriangleMesh commented = loadMesh(dir.write(
+      "comment.dae", variant(array, "<!-- <accessor count='x'> <p>q</p> -->" + array)));
+  EXPECT_EQ(commented.size(), 1u);
+}
+
+/// A Collada file of one triangle geometry with the given <library_nodes> and visual
+/// scene content.
+std::string colladaWithNodes(const std::string& library_nodes, const std::string& scene)
+{
+  return R"(<?xml version="1.0" encoding="utf-8"?>
+<COLLADA xmlns="http://www.collada.org/2005/11/COLLADASchema" version="1.4.1">
+  <asset></asset>
+  <library_geometries>
+    <geometry id="tri"><mesh>
+      <source id="p"><float_array id="pa" count="9">0 0 0  1 0 0  0 2 0</float_array>
+        <technique_common><accessor source="#pa" count="3" stride="3">
+          <param name="X" type="float"/><param name="Y" type="float"/><param name="Z" type="float"/>
+        </accessor></technique_common></source>
+      <vertices id="v"><input semantic="POSITION" source="#p"/></vertices>
+      <triangles count="1"><input semantic="VERTEX" source="#v" offset="0"/><p>0 1 2</p></triangles>
+    </mesh></geometry>
+  </library_geometries>
+  <library_nodes>)" + library_nodes +
+         R"(</library_nodes>
+  <library_visual_scenes><visual_scene id="s">)" +
+         scene + R"(</visual_scene></library_visual_scenes>
+  <scene><instance_visual_scene url="#s"/></scene>
+</COLLADA>
+)";
+}
+
+TEST(MeshIo, ColladaNodeGraphsThatRecurseOrExplodeAreRefusedBeforeAssimp)
+{
+  // Assimp 5.2.5 follows <instance_node> without a cycle check, recursively, and copies
+  // each instance.
+  TempDir dir;
+  const std::string leaf = R"(<node id="leaf" name="leaf"><instance_geometry url="#tri"/></node>)";
+  // A library node instanced twice: two triangles, the graph is a DAG.
+  const TriangleMesh twice = loadMesh(dir.write(
+      "twice.dae", colladaWithNodes(leaf, R"(<node id="a"><instance_node url="#leaf"/></node>
+        <node id="b"><translate>0 0 1</translate><instance_node url="#leaf"/></node>)")));
+  EXPECT_EQ(twice.size(), 2u);
+
+  // n0 instances n1 twice, n1 n2 twice, ...: 2^21 nodes from 21 lines.
+  std::string doubling;
+  for (int i = 0; i < 21; ++i)
+    doubling += "<node id=\"n" + std::to_string(i) + "\"><instance_node url=\"#n" +
+                std::to_string(i + 1) + "\"/><instance_node url=\"#n" +
+                std::to_string(i + 1) + "\"/></node>\n";
+  doubling += R"(<node id="n21"><instance_geometry url="#tri"/></node>)";
+  std::string deep;
+  for (int i = 0; i < 300; ++i)
+    deep += "<node>";
+  for (int i = 0; i < 300; ++i)
+    deep += "</node>";
+  const struct {
+    std::string name, text, message;
+  } cases[] = {
+      {"self", colladaWithNodes("", R"(<node id="x"><instance_node url="#x"/></node>)"),
+       "line 15: <node> instances itself through <instance_node> (a cycle)"},
+      {"pair",
+       colladaWithNodes(R"(<node id="p"><instance_node url="#q"/></node>
+                           <node id="q"><node id="inner"><instance_node url="#p"/></node></node>)",
+                        R"(<node id="top"><instance_node url="#p"/></node>)"),
+       "(a cycle)"},
+      {"doubling", colladaWithNodes(doubling, R"(<node><instance_node url="#n0"/></node>)"),
+       "<instance_node>s expand this <node> to more than 1000000 nodes"},
+      {"deep", colladaWithNodes("", deep), "<node>s nested more than 256 deep"},
+  };
+  for (const auto& c : cases) {
+    const std::string msg =
+        thrownMessage<FormatError>([&] { loadMesh(dir.write(c.name + ".dae", c.text)); });
+    EXPECT_NE(msg.find(c.message), std::string::npos) << c.name << ": " << msg;
+  }
+}
+
 TEST(MeshIo, ObjObjectsAndGroupsKeepTheirNames)
 {
   const TriangleMesh objects = loadMesh(fixture("two_objects.obj"));

@@ -7,6 +7,7 @@
 #include <fstream>
 #include <string_view>
 #include <unordered_map>
+#include <vector>
 
 #include <Eigen/Core>
 #include <assimp/Importer.hpp>
@@ -111,52 +112,256 @@ ColladaAsset scanColladaAsset(const std::string& path, const std::string& head)
   return asset;
 }
 
-/// Refuses Collada files that make Assimp 5.2.5 loop forever or crash (found by
-/// fuzzing): an index list (<p>) holding anything but digits and spaces, and an array
-/// (<float_array>, ...) without a valid count attribute, or with a count that the file
-/// cannot hold (Assimp reserves memory for the count before it reads the values).
-void checkColladaForAssimp(const std::string& path, const std::string& text)
+/// The text with XML comments and CDATA sections blanked out (newlines kept, so line
+/// numbers stay): Assimp's XML parser skips them, so the checks below must too.
+std::string withoutCommentsAndCdata(const std::string& text)
 {
-  auto lineOf = [&](std::size_t at) {
-    return std::to_string(1 + std::count(text.begin(), text.begin() + at, '\n'));
+  std::string out = text;
+  for (std::size_t at = out.find("<!"); at != std::string::npos; at = out.find("<!", at)) {
+    const char* close = out.compare(at, 4, "<!--") == 0        ? "-->"
+                        : out.compare(at, 9, "<![CDATA[") == 0 ? "]]>"
+                                                               : nullptr;
+    if (!close) {
+      ++at;
+      continue;
+    }
+    const std::size_t end = out.find(close, at);
+    const std::size_t stop = end == std::string::npos ? out.size() : end + std::strlen(close);
+    for (std::size_t i = at; i < stop; ++i)
+      if (out[i] != '\n')
+        out[i] = ' ';
+    at = stop;
+  }
+  return out;
+}
+
+/// Calls f(position, start tag text) for each start tag <name ...> of the text (the
+/// whole name: not <name_more>).
+template <typename F>
+void forEachStartTag(std::string_view text, std::string_view name, F&& f)
+{
+  for (std::size_t at = text.find(name); at != std::string_view::npos;
+       at = text.find(name, at + 1)) {
+    const std::size_t after = at + name.size();
+    if (at == 0 || text[at - 1] != '<' || after >= text.size() ||
+        !(std::isspace(static_cast<unsigned char>(text[after])) || text[after] == '>' ||
+          text[after] == '/'))
+      continue;
+    const std::size_t close = text.find('>', after);
+    f(at - 1, text.substr(at - 1, (close == std::string_view::npos ? text.size() : close) -
+                                      (at - 1)));
+  }
+}
+
+/// Refuses a Collada node graph that Assimp 5.2.5 would recurse through without end or
+/// expand beyond memory: a <node> that instances (<instance_node url="#id">) itself or
+/// an ancestor, directly or through other nodes; nodes nested deeper than kMaxDepth;
+/// instances that multiply (a node instancing another twice, that one the next twice,
+/// ...) to more than kMaxInstances nodes. `text` has its comments blanked; `fail(at,
+/// what)` throws.
+template <typename Fail>
+void checkColladaNodeGraph(std::string_view text, Fail&& fail)
+{
+  constexpr std::size_t kMaxDepth = 256;
+  constexpr std::uint64_t kMaxInstances = 1000000;
+  struct Node {
+    std::size_t at;                   ///< where its start tag is
+    std::vector<std::size_t> targets; ///< nested nodes, then instanced ones (by index)
+    std::vector<std::string> urls;    ///< the ids it instances, resolved below
   };
-  static const char* const kArrays[] = {"<float_array", "<int_array", "<bool_array",
-                                        "<Name_array", "<IDREF_array"};
-  for (const char* tag : kArrays)
-    for (std::size_t at = text.find(tag); at != std::string::npos;
-         at = text.find(tag, at + 1)) {
-      const std::size_t close = text.find('>', at);
-      const std::string_view start_tag =
-          std::string_view(text).substr(at, close == std::string::npos ? 0 : close - at);
-      std::string_view count;
-      std::uint64_t n = 0;
-      if (!attribute(start_tag, "count", count) || count.empty() ||
-          std::from_chars(count.data(), count.data() + count.size(), n).ptr !=
-              count.data() + count.size())
-        throw FormatError(detail::where(path) + "line " + lineOf(at) + ": " + tag +
-                          "> needs a count attribute holding a non-negative integer");
-      // Each value takes at least one character and a separator.
-      if (n > text.size() / 2 + 1)
-        throw FormatError(detail::where(path) + "line " + lineOf(at) + ": " + tag +
-                          "> count " + std::string(count) +
-                          " is more than the file can hold");
+  std::vector<Node> nodes;
+  std::unordered_map<std::string, std::size_t> ids;
+  // The start tags, end tags and instances in file order.
+  enum Kind { start, end, instance };
+  std::vector<std::pair<std::size_t, Kind>> events;
+  forEachStartTag(text, "node", [&](std::size_t at, std::string_view) {
+    events.emplace_back(at, start);
+  });
+  forEachStartTag(text, "instance_node", [&](std::size_t at, std::string_view) {
+    events.emplace_back(at, instance);
+  });
+  for (std::size_t at = text.find("</node>"); at != std::string_view::npos;
+       at = text.find("</node>", at + 1))
+    events.emplace_back(at, end);
+  std::sort(events.begin(), events.end());
+  std::vector<std::size_t> open; // the nodes enclosing the current position
+  for (const auto& [at, kind] : events) {
+    const std::size_t close = text.find('>', at);
+    const std::string_view tag =
+        text.substr(at, (close == std::string_view::npos ? text.size() : close) - at);
+    if (kind == end) {
+      if (!open.empty())
+        open.pop_back();
+      continue;
+    }
+    if (kind == instance) {
+      std::string_view url;
+      if (!open.empty() && attribute(tag, "url", url) && url.size() > 1 && url[0] == '#')
+        nodes[open.back()].urls.emplace_back(url.substr(1));
+      continue;
+    }
+    const std::size_t index = nodes.size();
+    nodes.push_back({at, {}, {}});
+    std::string_view id;
+    if (attribute(tag, "id", id))
+      ids.emplace(std::string(id), index);
+    if (!open.empty())
+      nodes[open.back()].targets.push_back(index);
+    if (!tag.empty() && tag.back() == '/')
+      continue; // <node ... /> holds nothing
+    open.push_back(index);
+    if (open.size() > kMaxDepth)
+      fail(at, "<node>s nested more than " + std::to_string(kMaxDepth) + " deep");
+  }
+  for (Node& n : nodes)
+    for (const std::string& url : n.urls) {
+      const auto target = ids.find(url);
+      if (target != ids.end()) // Assimp skips an instance of a node it does not find
+        n.targets.push_back(target->second);
     }
 
-  static const char* const kTags[] = {"<p>", "<p ", "<h>",     "<h ",
-                                      "<v>", "<v ", "<vcount>"};
-  for (const char* tag : kTags)
-    for (std::size_t at = text.find(tag); at != std::string::npos;
-         at = text.find(tag, at + 1)) {
-      const std::size_t begin = text.find('>', at) + 1;
+  // Depth-first, without recursion: a target still on the path is a cycle; a node's
+  // instance count is 1 + its targets' (saturating), known once all are done.
+  std::vector<int> state(nodes.size(), 0); // 0 new, 1 on the path, 2 done
+  std::vector<std::uint64_t> instances(nodes.size(), 1);
+  std::vector<std::pair<std::size_t, std::size_t>> path; // (node, next target)
+  for (std::size_t root = 0; root < nodes.size(); ++root) {
+    if (state[root] != 0)
+      continue;
+    path.emplace_back(root, 0);
+    state[root] = 1;
+    while (!path.empty()) {
+      auto& [n, next] = path.back();
+      if (next < nodes[n].targets.size()) {
+        const std::size_t t = nodes[n].targets[next++];
+        if (state[t] == 1)
+          fail(nodes[t].at, "<node> instances itself through <instance_node> (a cycle)");
+        if (state[t] == 0) {
+          state[t] = 1;
+          path.emplace_back(t, 0);
+        }
+        continue;
+      }
+      for (const std::size_t t : nodes[n].targets)
+        instances[n] = std::min(kMaxInstances + 1, instances[n] + instances[t]);
+      if (instances[n] > kMaxInstances)
+        fail(nodes[n].at, "<instance_node>s expand this <node> to more than " +
+                              std::to_string(kMaxInstances) + " nodes");
+      state[n] = 2;
+      path.pop_back();
+    }
+  }
+}
+
+/// Refuses Collada files that make Assimp 5.2.5 loop forever, crash or read outside its
+/// arrays (found by fuzzing):
+/// - an index list (<p>) holding anything but digits and spaces;
+/// - an array (<float_array>, ...) without a valid count attribute, or with a count
+///   that the file cannot hold (Assimp reserves memory for the count before it reads
+///   the values);
+/// - an <accessor> that reaches past the end of its array (Assimp reads offset +
+///   index * stride + component without a bound), names no array of the file, has more
+///   <param>s than its stride, or, inside a <mesh>, reads a Name_array or IDREF_array
+///   (Assimp reads their strings as numbers from an empty buffer);
+/// - node graphs with cycles, nested too deep or expanding too far
+///   (checkColladaNodeGraph).
+void checkColladaForAssimp(const std::string& path, const std::string& file_text)
+{
+  const std::string text = withoutCommentsAndCdata(file_text);
+  auto fail = [&](std::size_t at, const std::string& what) {
+    throw FormatError(detail::where(path) + "line " +
+                      std::to_string(1 + std::count(text.begin(), text.begin() + at, '\n')) +
+                      ": " + what);
+  };
+  auto unsignedAttribute = [&](std::size_t at, std::string_view tag, std::string_view name,
+                               std::uint64_t fallback, const std::string& what) {
+    std::string_view value;
+    if (!attribute(tag, name, value))
+      return fallback;
+    std::uint64_t n = 0;
+    const std::string_view v = trim(value);
+    if (v.empty() || std::from_chars(v.data(), v.data() + v.size(), n).ptr != v.data() + v.size())
+      fail(at, what + " " + std::string(name) + " '" + std::string(value) +
+                   "' is not a non-negative integer");
+    return n;
+  };
+
+  struct Array {
+    std::uint64_t count;
+    bool numeric;
+  };
+  std::unordered_map<std::string, Array> arrays;
+  static const char* const kArrays[] = {"float_array", "int_array", "bool_array",
+                                        "Name_array", "IDREF_array"};
+  constexpr std::uint64_t kNoCount = ~std::uint64_t{0};
+  for (const char* name : kArrays)
+    forEachStartTag(text, name, [&](std::size_t at, std::string_view tag) {
+      const std::string what = "<" + std::string(name) + ">";
+      const std::uint64_t n = unsignedAttribute(at, tag, "count", kNoCount, what);
+      if (n == kNoCount)
+        fail(at, what + " needs a count attribute holding a non-negative integer");
+      // Each value takes at least one character and a separator.
+      if (n > text.size() / 2 + 1)
+        fail(at, what + " count " + std::to_string(n) + " is more than the file can hold");
+      std::string_view id;
+      if (attribute(tag, "id", id) &&
+          !arrays.emplace(std::string(id), Array{n, name[0] != 'N' && name[0] != 'I'})
+               .second)
+        fail(at, what + " id '" + std::string(id) + "' is not unique");
+    });
+
+  std::vector<std::pair<std::size_t, std::size_t>> meshes; // [begin, end) of each <mesh>
+  forEachStartTag(text, "mesh", [&](std::size_t at, std::string_view) {
+    const std::size_t end = text.find("</mesh>", at);
+    meshes.emplace_back(at, end == std::string::npos ? text.size() : end);
+  });
+  forEachStartTag(text, "accessor", [&](std::size_t at, std::string_view tag) {
+    const std::string what = "<accessor>";
+    const std::uint64_t count = unsignedAttribute(at, tag, "count", kNoCount, what);
+    if (count == kNoCount)
+      fail(at, what + " needs a count attribute");
+    const std::uint64_t offset = unsignedAttribute(at, tag, "offset", 0, what);
+    const std::uint64_t stride = unsignedAttribute(at, tag, "stride", 1, what);
+    if (stride == 0)
+      fail(at, what + " stride must be at least 1");
+    std::string_view source;
+    if (!attribute(tag, "source", source) || source.size() < 2 || source[0] != '#')
+      fail(at, what + " needs a source attribute '#id' naming an array");
+    const auto array = arrays.find(std::string(source.substr(1)));
+    if (array == arrays.end())
+      fail(at, what + " source '" + std::string(source) + "' names no array of the file");
+    const Array& a = array->second;
+    if (offset > a.count || count > (a.count - offset) / stride)
+      fail(at, what + " reads " + std::to_string(count) + " x stride " +
+                   std::to_string(stride) + " values from offset " + std::to_string(offset) +
+                   " of '" + array->first + "', which holds " + std::to_string(a.count));
+    const std::size_t end = std::min(text.find("</accessor>", at), text.size());
+    std::uint64_t params = 0;
+    forEachStartTag(std::string_view(text).substr(at, end - at), "param",
+                    [&](std::size_t, std::string_view) { ++params; });
+    if (params > stride)
+      fail(at, what + " has " + std::to_string(params) + " <param>s, more than its stride " +
+                   std::to_string(stride));
+    const bool in_mesh = std::any_of(meshes.begin(), meshes.end(), [&](const auto& m) {
+      return m.first < at && at < m.second;
+    });
+    if (in_mesh && !a.numeric)
+      fail(at, what + " of a <mesh> reads '" + array->first +
+                   "', which holds names, not numbers");
+  });
+
+  checkColladaNodeGraph(text, fail);
+
+  static const char* const kIndexLists[] = {"p", "h", "v", "vcount"};
+  for (const char* name : kIndexLists)
+    forEachStartTag(text, name, [&](std::size_t at, std::string_view tag) {
+      const std::size_t begin = at + tag.size() + 1;
       const std::size_t end = text.find('<', begin);
       const std::size_t bad = text.find_first_not_of("0123456789 \t\r\n", begin);
-      if (bad < end && bad != std::string::npos) {
-        throw FormatError(detail::where(path) + "line " + lineOf(bad) + ": " +
-                          std::string(tag, std::strlen(tag) - 1) +
-                          "> must hold non-negative integers only, found '" + text[bad] +
-                          "'");
-      }
-    }
+      if (bad < end && bad != std::string::npos)
+        fail(bad, "<" + std::string(name) + "> must hold non-negative integers only, found '" +
+                      text[bad] + "'");
+    });
 }
 
 /// A binary STL states its triangle count in its first 84 bytes: refuse a file over the
