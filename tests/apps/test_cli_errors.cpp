@@ -118,7 +118,7 @@ const std::vector<BadCall> kBadCalls = {
     {"integrate {d}/cutheader -o {d}/m.ot", 1,
      "cutheader/depth/000000.png' is not a PNG file"},
     {"integrate {d}/nopng -o {d}/m.ot", 1,
-     "cannot read depth image '{d}/nopng/depth/000009.png'"},
+     "{d}/nopng/depth/000009.png: no such file"},
     {"integrate {d}/pose6 -o {d}/m.ot", 1,
      "pose6/groundtruth.txt' line 3: expected 8 numbers "
      "'timestamp tx ty tz qx qy qz qw', got 6"},

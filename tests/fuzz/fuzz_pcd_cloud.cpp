@@ -1,4 +1,4 @@
-// PCD point clouds: io::loadCloud (our header checks, then PCL's PCDReader).
+// PCD point clouds: io::loadCloud (our PCD reader: ascii, binary, binary_compressed).
 #include <pcl/point_cloud.h>
 #include <pcl/point_types.h>
 

@@ -1,5 +1,5 @@
-// PLY point clouds: io::fileKind (our PLY header parser) and io::loadCloud (our header
-// checks, then PCL's PLYReader).
+// PLY point clouds: io::fileKind (our PLY header parser) and io::loadCloud (our PLY
+// cloud reader).
 #include <pcl/point_cloud.h>
 #include <pcl/point_types.h>
 

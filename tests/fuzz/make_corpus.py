@@ -23,7 +23,7 @@ def put(target, name, content):
 
 
 def lzf_literal(data):
-    """LZF data made of literal runs only (valid, uncompressed): PCL's decoder reads it."""
+    """LZF data made of literal runs only (valid, uncompressed): our decoder (and PCL's) reads it."""
     out = bytearray()
     for i in range(0, len(data), 32):
         chunk = data[i:i + 32]

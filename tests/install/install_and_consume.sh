@@ -35,13 +35,9 @@ echo "$out"
 [ "$out" = "frames=3 candidates=27 best_gain>0=1 occupied>0=1" ]
 
 # What a robot links holds no simulator: no Embree, no plant generator, no ray caster,
-# and no VTK, in anything loaded with the robot's program and the three libraries it
-# needs (ldd: every library loaded, not only the direct ones).
-# One exception, from outside plantnbv: Debian's libpcl_io (which libplantnbv_io links
-# for PCD / PLY clouds) needs VTK itself; VTK is accepted only where libpcl_io brings it.
+# no VTK and no libpcl_io (which loads VTK), in anything loaded with the robot's program
+# and the three libraries it needs (ldd: every library loaded, not only the direct ones).
 lib="$work/prefix/lib"
-pcl_io=$(ldd "$lib/libplantnbv_io.so" | awk '/libpcl_io\.so/ {print $3}')
-pcl_io_vtk=$( [ -n "$pcl_io" ] && ldd "$pcl_io" | awk '/libvtk/ {print $1}' | sort -u || true)
 status=0
 for f in "$robot" "$lib/libplantnbv_session.so" "$lib/libplantnbv_io.so" \
          "$lib/libplantnbv_camera.so"; do
@@ -52,17 +48,7 @@ for f in "$robot" "$lib/libplantnbv_session.so" "$lib/libplantnbv_io.so" \
   if grep -Ei 'embree|libplantnbv_(plant|sensor|viz|experiment|scenario)\.' <<<"$deps"; then
     echo "$f links Embree or a simulator module of plantnbv" >&2; status=1
   fi
-  # VTK needed directly (readelf) is never accepted; loaded, only as libpcl_io's.
-  if readelf -d "$f" | grep -E 'NEEDED.*vtk'; then
-    echo "$f needs VTK directly" >&2; status=1
-  fi
-  extra=$(comm -23 <(awk '/libvtk/ {print $1}' <<<"$deps" | sort -u) <(echo "$pcl_io_vtk"))
-  if [ -n "$extra" ]; then
-    echo "$f loads VTK other than through libpcl_io: $extra" >&2; status=1
-  fi
-done
-for f in "$lib/libplantnbv_session.so" "$lib/libplantnbv_camera.so"; do
-  if ldd "$f" | grep -Ei 'vtk|pcl_io'; then
+  if grep -Ei 'vtk|pcl_io' <<<"$deps"; then
     echo "$f loads VTK or libpcl_io" >&2; status=1
   fi
 done

@@ -5,13 +5,17 @@
 #include <cstdint>
 #include <limits>
 #include <string>
+#include <sys/stat.h>
 
 #include <gtest/gtest.h>
 #include <pcl/point_cloud.h>
 #include <pcl/point_types.h>
 
+#include <plantnbv/camera/depth_image.h>
 #include <plantnbv/common/error.h>
 #include <plantnbv/io/cloud_io.h>
+#include <plantnbv/io/depth_image_io.h>
+#include <plantnbv/io/file_kind.h>
 #include <plantnbv/io/input_limits.h>
 #include <plantnbv/io/mesh_io.h>
 #include <plantnbv/io/roi_io.h>
@@ -282,6 +286,34 @@ TEST(InputLimits, ColladaArrayCountBeyondTheFileIsRefused)
   EXPECT_TRUE(contains(msg, "line 3: <float_array> count 1000000000000 is more than the "
                             "file can hold"))
       << msg;
+}
+
+TEST(InputLimits, WhatIsNotARegularFileIsRefusedByNameWithoutBlocking)
+{
+  // Opening a FIFO for reading blocks until a writer comes; each reader refuses it first.
+  TempDir dir;
+  for (const char* name :
+       {"cloud.pcd", "cloud.ply", "mesh.obj", "mesh.dae", "depth.png", "rois.yaml"}) {
+    SCOPED_TRACE(name);
+    const std::string path = dir.file(name);
+    ASSERT_EQ(mkfifo(path.c_str(), 0600), 0);
+    const std::string ext = plantnbv::io::extensionOf(path);
+    const std::string msg = thrownMessage<plantnbv::IoError>([&] {
+      if (ext == ".pcd" || ext == ".ply") {
+        CloudXYZ cloud;
+        loadCloud(path, cloud);
+      } else if (ext == ".png") {
+        plantnbv::DepthImage depth;
+        plantnbv::io::loadDepthPng(path, depth);
+      } else if (ext == ".yaml")
+        loadRoi(path);
+      else
+        plantnbv::io::loadMesh(path);
+    });
+    EXPECT_NE(msg.find(path + ": is not a regular file (a FIFO, socket or device)"),
+              std::string::npos)
+        << msg;
+  }
 }
 
 TEST(NonFinite, MeshVerticesAreRejectedNamingTheFile)

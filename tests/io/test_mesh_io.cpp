@@ -161,18 +161,23 @@ TEST(MeshIo, ColladaAccessorsOutsideTheirArraysAreRefusedBeforeAssimp)
     EXPECT_NE(at, std::string::npos) << from;
     return text.replace(at, from.size(), to);
   };
-  const std::string array = R"(<float_array id="pa" count="9">0 0 0  1 0 0  0 2 0</float_array>)";
+  const std::string array =
+      R"(<float_array id="pa" count="9">0 0 0  1 0 0  0 2 0</float_array>)";
   const std::string accessor = R"(<accessor source="#pa" count="3" stride="3">)";
   const struct {
     std::string name, text, message;
   } cases[] = {
       {"empty", variant(array, R"(<float_array id="pa" count="0"></float_array>)"),
-       "line 7: <accessor> reads 3 x stride 3 values from offset 0 of 'pa', which holds 0"},
-      {"short", variant(array, R"(<float_array id="pa" count="8">0 0 0 1 0 0 0 2</float_array>)"),
+       "line 7: <accessor> reads 3 x stride 3 values from offset 0 of 'pa', which holds "
+       "0"},
+      {"short",
+       variant(array, R"(<float_array id="pa" count="8">0 0 0 1 0 0 0 2</float_array>)"),
        "which holds 8"},
-      {"offset", variant(accessor, R"(<accessor source="#pa" count="3" stride="3" offset="1">)"),
+      {"offset",
+       variant(accessor, R"(<accessor source="#pa" count="3" stride="3" offset="1">)"),
        "from offset 1 of 'pa', which holds 9"},
-      {"names", variant(array, R"(<Name_array id="pa" count="9">a b c d e f g h i</Name_array>)"),
+      {"names",
+       variant(array, R"(<Name_array id="pa" count="9">a b c d e f g h i</Name_array>)"),
        "<accessor> of a <mesh> reads 'pa', which holds names, not numbers"},
       {"stride0", variant(accessor, R"(<accessor source="#pa" count="3" stride="0">)"),
        "stride must be at least 1"},
@@ -180,10 +185,13 @@ TEST(MeshIo, ColladaAccessorsOutsideTheirArraysAreRefusedBeforeAssimp)
        "<accessor> has 3 <param>s, more than its stride 2"},
       {"nosource", variant(accessor, R"(<accessor count="3" stride="3">)"),
        "needs a source attribute '#id'"},
-      {"dangling", variant(accessor, R"(<accessor source="#nothing" count="3" stride="3">)"),
+      {"dangling",
+       variant(accessor, R"(<accessor source="#nothing" count="3" stride="3">)"),
        "source '#nothing' names no array of the file"},
       {"commented",
-       variant(array, R"(<!-- <float_array id="pa" count="9"> --><float_array id="pb" count="9">0 0 0 1 0 0 0 2 0</float_array>)"),
+       variant(
+           array,
+           R"(<!-- <float_array id="pa" count="9"> --><float_array id="pb" count="9">0 0 0 1 0 0 0 2 0</float_array>)"),
        "source '#pa' names no array of the file"},
       {"twice", variant(array, array + array), "<float_array> id 'pa' is not unique"},
       {"count", variant(accessor, R"(<accessor source="#pa" count="-3" stride="3">)"),
@@ -217,7 +225,8 @@ std::string colladaWithNodes(const std::string& library_nodes, const std::string
       <triangles count="1"><input semantic="VERTEX" source="#v" offset="0"/><p>0 1 2</p></triangles>
     </mesh></geometry>
   </library_geometries>
-  <library_nodes>)" + library_nodes +
+  <library_nodes>)" +
+         library_nodes +
          R"(</library_nodes>
   <library_visual_scenes><visual_scene id="s">)" +
          scene + R"(</visual_scene></library_visual_scenes>
@@ -231,10 +240,12 @@ TEST(MeshIo, ColladaNodeGraphsThatRecurseOrExplodeAreRefusedBeforeAssimp)
   // Assimp 5.2.5 follows <instance_node> without a cycle check, recursively, and copies
   // each instance.
   TempDir dir;
-  const std::string leaf = R"(<node id="leaf" name="leaf"><instance_geometry url="#tri"/></node>)";
+  const std::string leaf =
+      R"(<node id="leaf" name="leaf"><instance_geometry url="#tri"/></node>)";
   // A library node instanced twice: two triangles, the graph is a DAG.
-  const TriangleMesh twice = loadMesh(dir.write(
-      "twice.dae", colladaWithNodes(leaf, R"(<node id="a"><instance_node url="#leaf"/></node>
+  const TriangleMesh twice = loadMesh(
+      dir.write("twice.dae",
+                colladaWithNodes(leaf, R"(<node id="a"><instance_node url="#leaf"/></node>
         <node id="b"><translate>0 0 1</translate><instance_node url="#leaf"/></node>)")));
   EXPECT_EQ(twice.size(), 2u);
 
@@ -260,7 +271,8 @@ TEST(MeshIo, ColladaNodeGraphsThatRecurseOrExplodeAreRefusedBeforeAssimp)
                            <node id="q"><node id="inner"><instance_node url="#p"/></node></node>)",
                         R"(<node id="top"><instance_node url="#p"/></node>)"),
        "(a cycle)"},
-      {"doubling", colladaWithNodes(doubling, R"(<node><instance_node url="#n0"/></node>)"),
+      {"doubling",
+       colladaWithNodes(doubling, R"(<node><instance_node url="#n0"/></node>)"),
        "<instance_node>s expand this <node> to more than 1000000 nodes"},
       {"deep", colladaWithNodes("", deep), "<node>s nested more than 256 deep"},
   };

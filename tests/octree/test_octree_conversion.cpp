@@ -334,6 +334,63 @@ TEST(OctreeConversion, ReadErrors)
   std::filesystem::remove(color_path);
 }
 
+TEST(OctreeConversion, NodeDataDeeperThanTheTreeOrUnlikeTheHeaderIsRefused)
+{
+  // OctoMap's readers recurse as deep as the node data says: a chain of inner nodes a
+  // few megabytes long overflowed the stack. Each file is refused before OctoMap reads.
+  auto write = [](const std::string& name, const std::string& header_rest,
+                  const std::string& data) {
+    const std::string path = tempPath(name);
+    std::ofstream(path, std::ios::binary)
+        << (std::filesystem::path(name).extension() == ".bt"
+                ? "# Octomap OcTree binary file\n"
+                : "# Octomap OcTree file\n")
+        << "id OcTree\n"
+        << header_rest << "res 0.01\ndata\n"
+        << data;
+    return path;
+  };
+  auto message = [](const std::string& path) {
+    try {
+      plantnbv::readOcTree(path);
+    } catch (const plantnbv::FormatError& e) {
+      std::filesystem::remove(path);
+      return std::string(e.what());
+    }
+    std::filesystem::remove(path);
+    return std::string("no error");
+  };
+  // .bt: each inner node's first child is inner (bits 11), its last an occupied leaf.
+  auto btChain = [](std::size_t levels) {
+    std::string data;
+    for (std::size_t i = 0; i < levels; ++i)
+      data += std::string("\x03\x40", 2);
+    return data + std::string("\x00\x40", 2); // the last inner node: one leaf only
+  };
+  // 16 inner nodes (the root at depth 0), a leaf on each, the deepest at depth 16: a
+  // valid tree of 32 nodes.
+  const auto valid = plantnbv::readOcTree(write("chain15.bt", "size 32\n", btChain(15)));
+  ASSERT_TRUE(valid);
+  EXPECT_EQ(valid->size(), 32u);
+  EXPECT_NE(
+      message(write("chain16.bt", "", btChain(16))).find("deeper than OctoMap's 16"),
+      std::string::npos);
+  EXPECT_NE(message(write("chain1M.bt", "", btChain(1000000))).find("deeper than"),
+            std::string::npos);
+  EXPECT_NE(message(write("size.bt", "size 33\n", btChain(15)))
+                .find("holds 32 nodes, its header says size 33"),
+            std::string::npos);
+  EXPECT_NE(message(write("cut.bt", "", btChain(15).substr(0, 29))).find("truncated"),
+            std::string::npos);
+  // .ot: log-odds then child bits; a chain of first children.
+  std::string ot;
+  for (std::size_t i = 0; i < 17; ++i)
+    ot += std::string("\0\0\0\0\x01", 5);
+  ot += std::string("\0\0\0\0\0", 5);
+  EXPECT_NE(message(write("chain.ot", "", ot)).find("deeper than OctoMap's 16"),
+            std::string::npos);
+}
+
 TEST(OctreeConversion, WriteErrors)
 {
   octomap::OcTree tree(0.01);

@@ -1,3 +1,8 @@
+// Our own PCD and PLY point cloud readers and writers. PCL's (pcl_io) crashed on
+// malformed files in many ways (found by fuzzing, tests/fuzz/regressions), and pcl_io
+// loads VTK into every program that links it: a robot program that reads frames
+// folders through this module should not carry a renderer.
+
 #include <algorithm>
 #include <cctype>
 #include <charconv>
@@ -9,11 +14,6 @@
 #include <sstream>
 #include <vector>
 
-#include <pcl/PCLPointCloud2.h>
-#include <pcl/conversions.h>
-#include <pcl/exceptions.h>
-#include <pcl/io/pcd_io.h>
-#include <pcl/io/ply_io.h>
 #include <pcl/point_cloud.h>
 #include <pcl/point_types.h>
 
@@ -31,139 +31,146 @@ namespace {
 
 const char* const kCloudExtensions = "expected .pcd or .ply";
 
-/// One field of the PCL blob, or none (offset < 0).
-struct FieldRef {
-  std::int64_t offset = -1;
-  std::uint8_t datatype = 0;
-  bool found() const { return offset >= 0; }
-};
-
-FieldRef findField(const pcl::PCLPointCloud2& blob, const char* name)
-{
-  for (const auto& f : blob.fields)
-    if (f.name == name && f.count >= 1)
-      return {static_cast<std::int64_t>(f.offset), f.datatype};
-  return {};
-}
-
-template <typename T>
-double readAs(const std::uint8_t* p)
-{
-  T v;
-  std::memcpy(&v, p, sizeof(T));
-  return static_cast<double>(v);
-}
-
-/// The value of a field of any PCL datatype, as a double (exact for all but 64-bit
-/// integers beyond 2^53, which no coordinate or label uses).
-double fieldValue(const std::uint8_t* point, const FieldRef& f)
-{
-  const std::uint8_t* p = point + f.offset;
-  switch (f.datatype) {
-  case pcl::PCLPointField::INT8:
-    return readAs<std::int8_t>(p);
-  case pcl::PCLPointField::UINT8:
-  case pcl::PCLPointField::BOOL:
-    return readAs<std::uint8_t>(p);
-  case pcl::PCLPointField::INT16:
-    return readAs<std::int16_t>(p);
-  case pcl::PCLPointField::UINT16:
-    return readAs<std::uint16_t>(p);
-  case pcl::PCLPointField::INT32:
-    return readAs<std::int32_t>(p);
-  case pcl::PCLPointField::UINT32:
-    return readAs<std::uint32_t>(p);
-  case pcl::PCLPointField::INT64:
-    return readAs<std::int64_t>(p);
-  case pcl::PCLPointField::UINT64:
-    return readAs<std::uint64_t>(p);
-  case pcl::PCLPointField::FLOAT32:
-    return readAs<float>(p);
-  case pcl::PCLPointField::FLOAT64:
-    return readAs<double>(p);
-  default:
-    return std::numeric_limits<double>::quiet_NaN();
-  }
-}
-
 /// a * b, or false when it overflows 64 bits.
 bool multiply(std::uint64_t a, std::uint64_t b, std::uint64_t& product)
 {
   return !__builtin_mul_overflow(a, b, &product);
 }
 
-/// Checks that each line of ASCII PCD data starts like a number (or nan, inf): PCL 1.13
-/// reads a data line that starts with FIELDS or COLUMNS as a header line and then
-/// writes past its buffers (found by fuzzing).
-void checkPcdAsciiLines(const std::string& path, std::istream& in)
+std::uint32_t littleEndianU32(const std::uint8_t* b)
 {
-  std::string line;
-  for (std::uint64_t n = 1; std::getline(in, line); ++n) {
-    const std::size_t first = line.find_first_not_of(" \t\r");
-    if (first != std::string::npos &&
-        std::string("0123456789+-.nNiI").find(line[first]) == std::string::npos) {
-      std::string shown = line.substr(first, 32);
-      for (char& c : shown)
-        if (!std::isprint(static_cast<unsigned char>(c)))
-          c = '?';
-      throw FormatError(detail::where(path) + "line " + std::to_string(n) +
-                        " of the ASCII data does not start with a number: '" + shown +
-                        "'");
+  return std::uint32_t{b[0]} | std::uint32_t{b[1]} << 8 | std::uint32_t{b[2]} << 16 |
+         std::uint32_t{b[3]} << 24;
+}
+
+/// The values a cloud keeps of each point, as read (any stored type, as a double).
+struct PointValues {
+  double x = 0.0, y = 0.0, z = 0.0, label = 0.0;
+};
+
+/// Receives the points of a file in order; width x height is known before the first.
+template <typename PointT>
+class CloudFiller {
+public:
+  CloudFiller(const std::string& path, pcl::PointCloud<PointT>& cloud)
+      : path_(path), cloud_(cloud)
+  {
+  }
+
+  void resize(std::uint64_t width, std::uint64_t height)
+  {
+    cloud_.points.clear();
+    cloud_.points.resize(static_cast<std::size_t>(width * height));
+    cloud_.width = static_cast<std::uint32_t>(width);
+    cloud_.height = static_cast<std::uint32_t>(height);
+    cloud_.is_dense = true;
+  }
+
+  void set(std::size_t i, const PointValues& v)
+  {
+    PointT& q = cloud_.points[i];
+    q.x = static_cast<float>(v.x);
+    q.y = static_cast<float>(v.y);
+    q.z = static_cast<float>(v.z);
+    // From the points, not the file's word: PCL's filters skip their finiteness checks
+    // on a dense cloud, and NaNs must never reach OctoMap.
+    cloud_.is_dense =
+        cloud_.is_dense && std::isfinite(q.x) && std::isfinite(q.y) && std::isfinite(q.z);
+    if constexpr (std::is_same_v<PointT, pcl::PointXYZL>) {
+      if (!(v.label >= 0.0 && v.label <= 4294967295.0 && v.label == std::floor(v.label)))
+        throw FormatError(detail::where(path_) + "point " + std::to_string(i) +
+                          " has label " + detail::numberText(v.label) +
+                          ", expected a non-negative whole number");
+      q.label = static_cast<std::uint32_t>(v.label);
     }
   }
+
+private:
+  const std::string& path_;
+  pcl::PointCloud<PointT>& cloud_;
+};
+
+FormatError missingAxis(const std::string& path, const char* axis)
+{
+  return FormatError(detail::where(path) + "has no '" + axis +
+                     "' field (a point cloud needs x, y and z)");
 }
 
-/// PCL 1.13 goes on reading header lines after DATA until it meets a line that is not
-/// one (empty lines skipped): data whose first line starts like a header line (FIELDS,
-/// POINTS, DATA, ... even in binary data) changes the layout PCL reads the data with;
-/// FIELDS there made it write past its buffers (found by fuzzing). `in` is at the data.
-void checkPcdDataStart(const std::string& path, std::istream& in)
+// ---- PCD ------------------------------------------------------------------------------
+
+struct PcdField {
+  std::string name;
+  char type = 'F';          ///< I (signed), U (unsigned) or F (floating point)
+  std::uint64_t size = 4;   ///< bytes of one value: 1, 2, 4 or 8 (F: 4 or 8)
+  std::uint64_t count = 1;  ///< values per point
+  std::uint64_t offset = 0; ///< bytes from the start of a point record
+  double (*decode)(const std::uint8_t*) = nullptr; ///< one value from its bytes
+};
+
+struct PcdHeader {
+  std::vector<PcdField> fields;
+  std::uint64_t width = 0, height = 1, points = 0;
+  std::uint64_t point_size = 0;           ///< bytes of one point record
+  std::uint64_t values = 0;               ///< values of one point (the sum of the counts)
+  std::string data;                       ///< ascii, binary or binary_compressed
+  int x = -1, y = -1, z = -1, label = -1; ///< the fields the cloud keeps; -1: none
+};
+
+/// A value of type T from its little-endian bytes (PCD binary data is written in the
+/// byte order of x86 and ARM), as a double (exact for every type but 64-bit integers
+/// beyond 2^53).
+template <typename T>
+double littleEndianValue(const std::uint8_t* p)
 {
-  static const char* const kHeaderWords[] = {"#",      "VERSION",   "FIELDS", "COLUMNS",
-                                             "SIZE",   "TYPE",      "COUNT",  "WIDTH",
-                                             "HEIGHT", "VIEWPOINT", "POINTS", "DATA"};
-  std::string word;
-  for (int c; (c = in.get()) != std::istream::traits_type::eof();) {
-    if (c == '\n' && word.empty())
-      continue; // a blank line: PCL skips an empty one, and stops at one of blanks
-    if (word.empty() && (c == ' ' || c == '\t' || c == '\r' || c == '\v' || c == '\f'))
-      continue;
-    if (c == '\n' || word.size() == 9)
-      break;
-    word += static_cast<char>(c);
-  }
-  for (const char* header_word : kHeaderWords)
-    if (word.rfind(header_word, 0) == 0)
-      throw FormatError(detail::where(path) + "the data starts with '" + header_word +
-                        "', which PCL would read as a header line");
+  static const bool swap = !detail::hostIsLittleEndian();
+  std::uint8_t b[sizeof(T)];
+  std::memcpy(b, p, sizeof(T));
+  if (swap)
+    std::reverse(b, b + sizeof(T));
+  T v;
+  std::memcpy(&v, b, sizeof(T));
+  return static_cast<double>(v);
 }
 
-/// Checks a PCD header and that the file is long enough for its data. PCL 1.13's
-/// PCDReader crashes on some malformed files (e.g. text without a DATA line) and
-/// allocates for the declared point count before it reads any point, so it only gets
-/// files that pass.
-void checkPcd(const std::string& path, const InputLimits& limits)
+/// The decoder of a field's values, chosen once per file.
+using ValueDecoder = double (*)(const std::uint8_t*);
+ValueDecoder decoderOf(char type, std::uint64_t size)
 {
-  std::ifstream in(path, std::ios::binary);
+  if (type == 'F')
+    return size == 4 ? littleEndianValue<float> : littleEndianValue<double>;
+  if (type == 'I')
+    return size == 1   ? littleEndianValue<std::int8_t>
+           : size == 2 ? littleEndianValue<std::int16_t>
+           : size == 4 ? littleEndianValue<std::int32_t>
+                       : littleEndianValue<std::int64_t>;
+  return size == 1   ? littleEndianValue<std::uint8_t>
+         : size == 2 ? littleEndianValue<std::uint16_t>
+         : size == 4 ? littleEndianValue<std::uint32_t>
+                     : littleEndianValue<std::uint64_t>;
+}
+
+double pcdValue(const std::uint8_t* p, const PcdField& f)
+{
+  return f.decode(p);
+}
+
+/// Reads and checks a PCD header, `in` left at the data; nothing is allocated for the
+/// points before the file is known to be long enough for them.
+PcdHeader readPcdHeader(const std::string& path, std::ifstream& in,
+                        const InputLimits& limits)
+{
   auto bad = [&](const std::string& why) {
     return FormatError(detail::where(path) + "bad PCD header: " + why);
   };
-  std::size_t fields = 0;
+  PcdHeader h;
+  std::vector<std::string> names;
   std::vector<std::uint64_t> sizes, counts;
-  std::string types, data;
-  std::uint64_t width = 0, height = 1, points = 0;
+  std::string types;
   bool have_width = false, have_points = false, have_types = false;
   std::string line;
-  while (data.empty()) {
-    const bool starts_with_cr = in.peek() == '\r'; // readHeaderLine drops a final \r
+  while (h.data.empty()) {
     if (!detail::readHeaderLine(path, in, line))
       throw bad("no DATA line (not a PCD file?)");
-    // PCL 1.13 dereferences a null pointer on a header line of blanks only, "\r" (an
-    // empty line of a Windows file) included (found by fuzzing), and reads a line that
-    // starts with a blank differently from us.
-    if (starts_with_cr ||
-        (!line.empty() && std::isspace(static_cast<unsigned char>(line[0]))))
-      throw bad("a line starts with a blank");
     std::istringstream words(line);
     std::string key;
     words >> key;
@@ -179,8 +186,8 @@ void checkPcd(const std::string& path, const InputLimits& limits)
         throw bad(key + " value '" + w + "' is not a non-negative integer");
       return v;
     };
-    if (key == "FIELDS")
-      fields = values.size();
+    if (key == "FIELDS" || key == "COLUMNS")
+      names = values;
     else if (key == "SIZE")
       for (const auto& w : values)
         sizes.push_back(number(w));
@@ -192,18 +199,19 @@ void checkPcd(const std::string& path, const InputLimits& limits)
         types += w;
       have_types = true;
     } else if (key == "WIDTH" && values.size() == 1) {
-      width = number(values[0]);
+      h.width = number(values[0]);
       have_width = true;
     } else if (key == "HEIGHT" && values.size() == 1)
-      height = number(values[0]);
+      h.height = number(values[0]);
     else if (key == "POINTS" && values.size() == 1) {
-      points = number(values[0]);
+      h.points = number(values[0]);
       have_points = true;
     } else if (key == "DATA" && values.size() == 1)
-      data = values[0];
+      h.data = values[0];
     else
       throw bad("unexpected line '" + line + "'");
   }
+  const std::size_t fields = names.size();
   if (fields == 0 || sizes.size() != fields || !have_types || types.size() != fields ||
       (!counts.empty() && counts.size() != fields))
     throw bad("FIELDS, SIZE, TYPE and COUNT must list the same number of fields");
@@ -212,110 +220,262 @@ void checkPcd(const std::string& path, const InputLimits& limits)
   if (!have_width)
     throw bad("no WIDTH");
   std::uint64_t width_x_height = 0;
-  if (!multiply(width, height, width_x_height))
+  if (!multiply(h.width, h.height, width_x_height))
     throw bad("WIDTH x HEIGHT overflows");
   if (!have_points)
-    points = width_x_height;
-  detail::checkLimit(path, std::max(points, width_x_height), "points", limits.max_points,
-                     "max_points");
-  if (data != "ascii" && data != "binary" && data != "binary_compressed")
-    throw bad("DATA must be ascii, binary or binary_compressed, got '" + data + "'");
-  // Sizes are those of I, U and F values; counts as large as PCL's widest descriptors
-  // (e.g. ESF, 640 values) with room to spare.
+    h.points = width_x_height;
+  if (h.points != width_x_height)
+    throw bad("POINTS " + std::to_string(h.points) + " is not WIDTH x HEIGHT (" +
+              std::to_string(h.width) + " x " + std::to_string(h.height) + ")");
+  detail::checkLimit(path, h.points, "points", limits.max_points, "max_points");
+  if (h.data != "ascii" && h.data != "binary" && h.data != "binary_compressed")
+    throw bad("DATA must be ascii, binary or binary_compressed, got '" + h.data + "'");
+  // Counts as large as PCL's widest descriptors (e.g. ESF, 640 values) with room to
+  // spare.
   constexpr std::uint64_t kMaxCount = 1 << 16;
-  std::uint64_t point_size = 0, values = 0;
   for (std::size_t i = 0; i < fields; ++i) {
-    const std::uint64_t count = counts.empty() ? 1 : counts[i];
-    if (sizes[i] != 1 && sizes[i] != 2 && sizes[i] != 4 && sizes[i] != 8)
-      throw bad("SIZE " + std::to_string(sizes[i]) + " is not 1, 2, 4 or 8");
-    if (types[i] == 'F' && sizes[i] != 4 && sizes[i] != 8)
-      throw bad("SIZE " + std::to_string(sizes[i]) + " of an F field is not 4 or 8");
-    if (count < 1 || count > kMaxCount)
-      throw bad("COUNT " + std::to_string(count) + " is not in 1.." +
+    PcdField f{names[i], types[i], sizes[i], counts.empty() ? 1 : counts[i],
+               h.point_size};
+    if (f.size != 1 && f.size != 2 && f.size != 4 && f.size != 8)
+      throw bad("SIZE " + std::to_string(f.size) + " is not 1, 2, 4 or 8");
+    if (f.type == 'F' && f.size != 4 && f.size != 8)
+      throw bad("SIZE " + std::to_string(f.size) + " of an F field is not 4 or 8");
+    if (f.count < 1 || f.count > kMaxCount)
+      throw bad("COUNT " + std::to_string(f.count) + " is not in 1.." +
                 std::to_string(kMaxCount));
-    point_size += sizes[i] * count;
-    values += count;
+    f.decode = decoderOf(f.type, f.size);
+    h.point_size += f.size * f.count;
+    h.values += f.count;
+    // The first field of each name counts, and its first value.
+    for (auto [name, role] : {std::pair{"x", &h.x}, std::pair{"y", &h.y},
+                              std::pair{"z", &h.z}, std::pair{"label", &h.label}})
+      if (f.name == name && *role < 0)
+        *role = static_cast<int>(i);
+    h.fields.push_back(std::move(f));
   }
+  if (h.x < 0)
+    throw missingAxis(path, "x");
+  if (h.y < 0)
+    throw missingAxis(path, "y");
+  if (h.z < 0)
+    throw missingAxis(path, "z");
+
   const auto body = static_cast<std::uint64_t>(in.tellg());
   const std::uint64_t file_size = std::filesystem::file_size(path);
   if (!in || body > file_size)
     throw IoError(detail::where(path) + "cannot determine the file size");
   const std::uint64_t left = file_size - body;
   auto truncated = [&](const std::string& need) {
-    return FormatError(detail::where(path) + "truncated: " + std::to_string(points) +
+    return FormatError(detail::where(path) + "truncated: " + std::to_string(h.points) +
                        " points need " + need + ", more than the " +
                        std::to_string(left) + " bytes left");
   };
   // ASCII: each value takes at least one character and a separator.
-  if (data == "ascii" && points > (left + 1) / (2 * values))
-    throw truncated("at least " + std::to_string(2 * values) + " bytes each");
-  if (data == "binary" && left / point_size < points)
-    throw truncated(std::to_string(point_size) + " bytes each");
-  if (data == "binary_compressed") {
-    std::uint32_t sizes_of_block[2] = {0, 0}; // compressed, uncompressed
+  if (h.data == "ascii" && h.points > (left + 1) / (2 * h.values))
+    throw truncated("at least " + std::to_string(2 * h.values) + " bytes each");
+  if (h.data == "binary" && left / h.point_size < h.points)
+    throw truncated(std::to_string(h.point_size) + " bytes each");
+  if (h.data == "binary_compressed") {
+    std::uint8_t sizes[8];
     std::uint64_t bytes = 0;
     // LZF expands 3 bytes into at most 264: a larger ratio cannot be real data.
-    if (!in.read(reinterpret_cast<char*>(sizes_of_block), 8) ||
-        sizes_of_block[0] > left - std::min<std::uint64_t>(left, 8) ||
-        !multiply(points, point_size, bytes) || sizes_of_block[1] != bytes ||
-        bytes > 88 * std::uint64_t{sizes_of_block[0]} + 8)
+    if (!in.read(reinterpret_cast<char*>(sizes), 8) ||
+        littleEndianU32(sizes) > left - std::min<std::uint64_t>(left, 8) ||
+        !multiply(h.points, h.point_size, bytes) || littleEndianU32(sizes + 4) != bytes ||
+        bytes > 88 * std::uint64_t{littleEndianU32(sizes)} + 8)
       throw FormatError(detail::where(path) +
                         "truncated or inconsistent compressed data");
-  }
-  in.clear();
-  in.seekg(static_cast<std::streamoff>(body));
-  checkPcdDataStart(path, in);
-  if (data == "ascii") {
-    in.clear();
     in.seekg(static_cast<std::streamoff>(body));
-    checkPcdAsciiLines(path, in);
   }
+  if (h.width > std::numeric_limits<std::uint32_t>::max() ||
+      h.height > std::numeric_limits<std::uint32_t>::max())
+    throw bad("WIDTH or HEIGHT exceeds 2^32 - 1");
+  return h;
 }
 
-/// PCL 1.13 packs uchar red, green and blue (or diffuse_red, ...) into one rgb field as
-/// it reads them, and abort()s (an assert) on any other arrangement, e.g. green without
-/// red (found by fuzzing). Accepts what it reads: no colour, or one red-green-blue run,
-/// optionally followed at once by alpha.
-void checkPlyColours(const std::string& path, const detail::PlyElement& vertex)
+/// Decompresses LZF data (the format of liblzf, which PCD's binary_compressed uses)
+/// into exactly out.size() bytes; false if the data is malformed or of another size.
+bool lzfDecompress(const std::vector<std::uint8_t>& in, std::vector<std::uint8_t>& out)
 {
-  auto role = [](const detail::PlyProperty& p) {
-    if (p.type != detail::PlyType::uint8)
-      return -1;
-    for (const char* prefix : {"", "diffuse_"}) {
-      const std::string base(prefix);
-      if (p.name == base + "red")
-        return 0;
-      if (p.name == base + "green")
-        return 1;
-      if (p.name == base + "blue")
-        return 2;
+  std::size_t ip = 0, op = 0;
+  while (ip < in.size()) {
+    std::size_t ctrl = in[ip++];
+    if (ctrl < 32) { // a literal run of ctrl + 1 bytes
+      const std::size_t n = ctrl + 1;
+      if (n > in.size() - ip || n > out.size() - op)
+        return false;
+      std::memcpy(out.data() + op, in.data() + ip, n);
+      ip += n;
+      op += n;
+    } else { // a back reference: len + 2 bytes from distance back
+      std::size_t len = ctrl >> 5;
+      if (len == 7) {
+        if (ip >= in.size())
+          return false;
+        len += in[ip++];
+      }
+      if (ip >= in.size())
+        return false;
+      const std::size_t distance = ((ctrl & 0x1f) << 8) + in[ip++] + 1;
+      len += 2;
+      if (distance > op || len > out.size() - op)
+        return false;
+      for (std::size_t k = 0; k < len; ++k, ++op) // overlapping copies repeat bytes
+        out[op] = out[op - distance];
     }
-    return p.name == "alpha" ? 3 : -1;
-  };
-  int previous = -1; // the role of the previous property
-  bool have_rgb = false;
-  for (const detail::PlyProperty& p : vertex.properties) {
-    const int r = role(p);
-    const bool ok = r == -1   ? previous != 0 && previous != 1
-                    : r == 0  ? !have_rgb
-                    : r == 3  ? previous == 2
-                              : previous == r - 1;
-    if (!ok)
-      throw FormatError(detail::where(path) + "vertex colour properties must be uchar "
-                        "red, green, blue in that order, alpha only right after blue (at '" +
-                        p.name + "')");
-    have_rgb = have_rgb || r == 0;
-    previous = r;
   }
-  if (previous == 0 || previous == 1)
-    throw FormatError(detail::where(path) + "vertex colour properties must be uchar red, "
-                      "green, blue in that order (no blue after '" +
-                      vertex.properties.back().name + "')");
+  return op == out.size();
 }
 
-/// Checks a PLY header: a vertex element of scalar properties within the limits, and a
-/// body long enough for its counts.
-void checkPly(const std::string& path, const InputLimits& limits)
+/// One value of ASCII PCD data; true if the token is a number (nan and inf included).
+bool parseAsciiValue(std::string_view token, const PcdField& f, double& v)
+{
+  if (!token.empty() && token.front() == '+')
+    token.remove_prefix(1);
+  const auto r = std::from_chars(token.data(), token.data() + token.size(), v);
+  if (r.ec != std::errc() || r.ptr != token.data() + token.size())
+    return false;
+  return f.type == 'F' || v == std::floor(v);
+}
+
+template <typename PointT>
+void readPcdAscii(const std::string& path, std::ifstream& in, const PcdHeader& h,
+                  CloudFiller<PointT>& filler)
+{
+  // The value index of each kept field in a line.
+  std::vector<std::uint64_t> first_value(h.fields.size());
+  for (std::size_t i = 1; i < h.fields.size(); ++i)
+    first_value[i] = first_value[i - 1] + h.fields[i - 1].count;
+  std::string line;
+  std::vector<std::string_view> tokens;
+  std::uint64_t point = 0;
+  for (std::uint64_t n = 1; std::getline(in, line); ++n) {
+    tokens.clear();
+    for (std::size_t at = line.find_first_not_of(" \t\r"); at != std::string::npos;) {
+      const std::size_t end = std::min(line.find_first_of(" \t\r", at), line.size());
+      tokens.emplace_back(line.data() + at, end - at);
+      at = line.find_first_not_of(" \t\r", end);
+    }
+    if (tokens.empty())
+      continue;
+    auto fail = [&](const std::string& why) {
+      throw FormatError(detail::where(path) + "line " + std::to_string(n) +
+                        " of the ASCII data: " + why);
+    };
+    if (point == h.points)
+      fail("more data lines than the " + std::to_string(h.points) + " POINTS");
+    if (tokens.size() != h.values)
+      fail(std::to_string(tokens.size()) + " values, expected " +
+           std::to_string(h.values));
+    for (std::size_t t = 0; t < tokens.size(); ++t) {
+      double v = 0.0;
+      // Which field the token belongs to, for its type.
+      const std::size_t f = static_cast<std::size_t>(
+          std::upper_bound(first_value.begin(), first_value.end(), t) -
+          first_value.begin() - 1);
+      if (!parseAsciiValue(tokens[t], h.fields[f], v)) {
+        std::string shown(tokens[t].substr(0, 32));
+        for (char& c : shown)
+          if (!std::isprint(static_cast<unsigned char>(c)))
+            c = '?';
+        fail("'" + shown + "' is not a" +
+             (h.fields[f].type == 'F' ? " number" : " whole number") + " (field '" +
+             h.fields[f].name + "')");
+      }
+    }
+    auto value = [&](int field) {
+      double v = 0.0;
+      parseAsciiValue(tokens[first_value[static_cast<std::size_t>(field)]],
+                      h.fields[static_cast<std::size_t>(field)], v);
+      return v;
+    };
+    PointValues p{value(h.x), value(h.y), value(h.z),
+                  h.label >= 0 ? value(h.label) : 0.0};
+    filler.set(static_cast<std::size_t>(point++), p);
+  }
+  if (point < h.points)
+    throw FormatError(detail::where(path) + "truncated: " + std::to_string(point) +
+                      " data lines of " + std::to_string(h.points) + " POINTS");
+}
+
+/// Binary data: one record of point_size bytes per point, in order.
+template <typename PointT>
+void readPcdBinary(const std::string& path, std::ifstream& in, const PcdHeader& h,
+                   CloudFiller<PointT>& filler)
+{
+  const std::uint64_t per_block = std::max<std::uint64_t>(1, (1 << 20) / h.point_size);
+  std::vector<std::uint8_t> block;
+  for (std::uint64_t first = 0; first < h.points; first += per_block) {
+    const std::uint64_t n = std::min(per_block, h.points - first);
+    block.resize(static_cast<std::size_t>(n * h.point_size));
+    if (!in.read(reinterpret_cast<char*>(block.data()),
+                 static_cast<std::streamsize>(block.size())))
+      throw FormatError(detail::where(path) + "truncated binary data");
+    for (std::uint64_t i = 0; i < n; ++i) {
+      const std::uint8_t* record = block.data() + i * h.point_size;
+      auto value = [&](int field) {
+        const PcdField& f = h.fields[static_cast<std::size_t>(field)];
+        return pcdValue(record + f.offset, f);
+      };
+      filler.set(
+          static_cast<std::size_t>(first + i),
+          {value(h.x), value(h.y), value(h.z), h.label >= 0 ? value(h.label) : 0.0});
+    }
+  }
+}
+
+/// binary_compressed: the compressed and the uncompressed size (uint32 each), then LZF
+/// data that expands to each field's values for all points in turn (field after field).
+template <typename PointT>
+void readPcdCompressed(const std::string& path, std::ifstream& in, const PcdHeader& h,
+                       CloudFiller<PointT>& filler)
+{
+  // The sizes were checked with the header (readPcdHeader).
+  std::uint8_t sizes[8];
+  in.read(reinterpret_cast<char*>(sizes), 8);
+  const std::uint32_t compressed = littleEndianU32(sizes),
+                      uncompressed = littleEndianU32(sizes + 4);
+  std::vector<std::uint8_t> packed(static_cast<std::size_t>(compressed));
+  std::vector<std::uint8_t> data(static_cast<std::size_t>(uncompressed));
+  if (!in.read(reinterpret_cast<char*>(packed.data()),
+               static_cast<std::streamsize>(packed.size())) ||
+      !lzfDecompress(packed, data))
+    throw FormatError(detail::where(path) + "malformed compressed data");
+  packed = {};
+  auto value = [&](int field, std::uint64_t i) {
+    const PcdField& f = h.fields[static_cast<std::size_t>(field)];
+    // Field f's values start after the values of the fields before it, for all points.
+    const std::uint64_t start = h.points * f.offset;
+    return pcdValue(data.data() + start + i * f.size * f.count, f);
+  };
+  for (std::uint64_t i = 0; i < h.points; ++i)
+    filler.set(static_cast<std::size_t>(i), {value(h.x, i), value(h.y, i), value(h.z, i),
+                                             h.label >= 0 ? value(h.label, i) : 0.0});
+}
+
+template <typename PointT>
+void readPcd(const std::string& path, const InputLimits& limits,
+             pcl::PointCloud<PointT>& cloud)
+{
+  std::ifstream in(path, std::ios::binary);
+  const PcdHeader h = readPcdHeader(path, in, limits);
+  CloudFiller<PointT> filler(path, cloud);
+  filler.resize(h.width, h.height);
+  if (h.data == "ascii")
+    readPcdAscii(path, in, h, filler);
+  else if (h.data == "binary")
+    readPcdBinary(path, in, h, filler);
+  else
+    readPcdCompressed(path, in, h, filler);
+}
+
+// ---- PLY ------------------------------------------------------------------------------
+
+/// A PLY cloud: the points of the vertex element (elements before it are skipped, those
+/// after it ignored); x, y, z and label must be scalar properties of any type.
+template <typename PointT>
+void readPly(const std::string& path, const InputLimits& limits,
+             pcl::PointCloud<PointT>& cloud)
 {
   std::ifstream in(path, std::ios::binary);
   const detail::PlyHeader header = detail::readPlyHeader(path, in);
@@ -323,18 +483,54 @@ void checkPly(const std::string& path, const InputLimits& limits)
   if (!vertex)
     throw FormatError(detail::where(path) + "no vertex element");
   detail::checkLimit(path, vertex->count, "points", limits.max_points, "max_points");
-  // PCL 1.13 sizes a vertex list by the first vertex's and abort()s on a longer one
-  // (found by fuzzing).
-  for (const detail::PlyProperty& p : vertex->properties)
-    if (p.is_list)
-      throw FormatError(detail::where(path) + "vertex property '" + p.name +
-                        "' is a list; a point cloud's vertex properties must be scalars");
-  checkPlyColours(path, *vertex);
+  if (vertex->count > std::numeric_limits<std::uint32_t>::max())
+    throw FormatError(detail::where(path) + "more than 2^32 - 1 vertices");
+  // The role of each vertex property: 0..2 x, y, z, 3 label, -1 skipped.
+  std::vector<int> roles(vertex->properties.size(), -1);
+  const char* const kNames[] = {"x", "y", "z", "label"};
+  for (int role = 0; role < 4; ++role) {
+    const auto& ps = vertex->properties;
+    const auto it = std::find_if(ps.begin(), ps.end(), [&](const detail::PlyProperty& p) {
+      return p.name == kNames[role];
+    });
+    if (it == ps.end()) {
+      if (role < 3)
+        throw missingAxis(path, kNames[role]);
+      continue;
+    }
+    if (it->is_list)
+      throw FormatError(detail::where(path) + "vertex property '" + it->name +
+                        "' is a list; it must be one value");
+    roles[static_cast<std::size_t>(it - ps.begin())] = role;
+  }
   detail::checkPlyBodySize(path, in, header);
+  detail::PlyBody body(path, in, header.format);
+  for (const detail::PlyElement& e : header.elements) {
+    if (&e != vertex) {
+      for (std::uint64_t k = 0; k < e.count; ++k)
+        for (const auto& p : e.properties)
+          body.skip(p, "element data");
+      continue;
+    }
+    CloudFiller<PointT> filler(path, cloud);
+    filler.resize(e.count, 1);
+    for (std::uint64_t i = 0; i < e.count; ++i) {
+      double v[4] = {0.0, 0.0, 0.0, 0.0};
+      for (std::size_t k = 0; k < e.properties.size(); ++k) {
+        if (roles[k] < 0)
+          body.skip(e.properties[k], "vertex data");
+        else
+          v[roles[k]] = body.read(e.properties[k].type, "vertex data");
+      }
+      filler.set(static_cast<std::size_t>(i), {v[0], v[1], v[2], v[3]});
+    }
+    return;
+  }
 }
 
-/// Reads the file into a blob with PCL's readers; checks that x, y and z exist.
-pcl::PCLPointCloud2 readBlob(const std::string& path, const InputLimits& limits)
+template <typename PointT>
+void load(const std::string& path, pcl::PointCloud<PointT>& cloud,
+          const InputLimits& limits)
 {
   const std::string ext = extensionOf(path);
   if (ext != ".pcd" && ext != ".ply")
@@ -342,82 +538,13 @@ pcl::PCLPointCloud2 readBlob(const std::string& path, const InputLimits& limits)
                       "' (" + kCloudExtensions + ")");
   detail::requireReadableFile(path);
   detail::checkFileSize(path, limits);
+  // Into a new cloud: the caller's is left as it was if the file is refused.
+  pcl::PointCloud<PointT> read;
   if (ext == ".pcd")
-    checkPcd(path, limits);
+    readPcd(path, limits, read);
   else
-    checkPly(path, limits);
-  pcl::PCLPointCloud2 blob;
-  Eigen::Vector4f origin;
-  Eigen::Quaternionf orientation;
-  int status = -1;
-  // PCL reports the details of a failure on the console; we add a one-line summary.
-  try {
-    if (ext == ".pcd") {
-      pcl::PCDReader reader;
-      int version = 0;
-      status = reader.read(path, blob, origin, orientation, version);
-    } else {
-      pcl::PLYReader reader;
-      int version = 0;
-      status = reader.read(path, blob, origin, orientation, version);
-    }
-  } catch (const std::exception& e) {
-    throw FormatError(detail::where(path) + "cannot be parsed as " + ext.substr(1) +
-                      ": " + e.what());
-  }
-  if (status < 0)
-    throw FormatError(detail::where(path) + "cannot be parsed as a " + ext.substr(1) +
-                      " point cloud (PCL reader error " + std::to_string(status) + ")");
-  for (const char* axis : {"x", "y", "z"})
-    if (!findField(blob, axis).found())
-      throw FormatError(detail::where(path) + "has no '" + axis +
-                        "' field (a point cloud needs x, y and z)");
-  const std::uint64_t points = std::uint64_t{blob.width} * blob.height;
-  if (blob.data.size() < points * blob.point_step ||
-      (blob.height > 1 && blob.row_step < std::uint64_t{blob.width} * blob.point_step))
-    throw FormatError(detail::where(path) + "holds less data than its header declares");
-  return blob;
-}
-
-/// Copies x, y, z (and label) out of the blob whatever their stored types: PCL's own
-/// fromPCLPointCloud2 silently leaves zeros where a type differs (e.g. double x).
-template <typename PointT>
-void fromBlob(const std::string& path, const pcl::PCLPointCloud2& blob,
-              pcl::PointCloud<PointT>& cloud, bool with_label)
-{
-  const FieldRef fx = findField(blob, "x"), fy = findField(blob, "y"),
-                 fz = findField(blob, "z");
-  const FieldRef fl = with_label ? findField(blob, "label") : FieldRef{};
-  cloud.width = blob.width;
-  cloud.height = blob.height;
-  cloud.header.frame_id = blob.header.frame_id;
-  cloud.points.resize(std::size_t{blob.width} * blob.height);
-  // From the points, not the file's word: PCL's filters skip their finiteness checks
-  // on a dense cloud, and NaNs must never reach OctoMap.
-  bool dense = true;
-  std::size_t i = 0;
-  for (std::uint32_t row = 0; row < blob.height; ++row)
-    for (std::uint32_t col = 0; col < blob.width; ++col, ++i) {
-      const std::uint8_t* p = blob.data.data() + std::size_t{row} * blob.row_step +
-                              std::size_t{col} * blob.point_step;
-      PointT& q = cloud.points[i];
-      q.x = static_cast<float>(fieldValue(p, fx));
-      q.y = static_cast<float>(fieldValue(p, fy));
-      q.z = static_cast<float>(fieldValue(p, fz));
-      dense = dense && std::isfinite(q.x) && std::isfinite(q.y) && std::isfinite(q.z);
-      if constexpr (std::is_same_v<PointT, pcl::PointXYZL>) {
-        q.label = 0;
-        if (fl.found()) {
-          const double label = fieldValue(p, fl);
-          if (!(label >= 0.0 && label <= 4294967295.0 && label == std::floor(label)))
-            throw FormatError(detail::where(path) + "point " + std::to_string(i) +
-                              " has label " + std::to_string(label) +
-                              ", expected a non-negative whole number");
-          q.label = static_cast<std::uint32_t>(label);
-        }
-      }
-    }
-  cloud.is_dense = dense;
+    readPly(path, limits, read);
+  cloud = std::move(read);
 }
 
 /// Appends the little-endian bytes of v.
@@ -482,6 +609,60 @@ void writePly(const std::string& path, const pcl::PointCloud<PointT>& cloud, boo
     throw IoError(detail::where(path) + "write error");
 }
 
+/// Our PCD writer: x y z (float) and, for XYZL, label (uint); organized clouds keep
+/// their width and height. ASCII values are the shortest text that reads back exactly.
+template <typename PointT>
+void writePcd(const std::string& path, const pcl::PointCloud<PointT>& cloud, bool binary)
+{
+  constexpr bool kLabel = std::is_same_v<PointT, pcl::PointXYZL>;
+  std::ofstream out(path, std::ios::binary | std::ios::trunc);
+  if (!out)
+    throw IoError(detail::where(path) + "cannot open for writing");
+  const bool organized =
+      cloud.height > 1 && std::uint64_t{cloud.width} * cloud.height == cloud.size();
+  out << "# .PCD v0.7 - Point Cloud Data file format, written by plantnbv\n"
+      << "VERSION 0.7\nFIELDS x y z" << (kLabel ? " label" : "") << "\nSIZE 4 4 4"
+      << (kLabel ? " 4" : "") << "\nTYPE F F F" << (kLabel ? " U" : "") << "\nCOUNT 1 1 1"
+      << (kLabel ? " 1" : "") << "\nWIDTH " << (organized ? cloud.width : cloud.size())
+      << "\nHEIGHT " << (organized ? cloud.height : 1)
+      << "\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS " << cloud.size() << "\nDATA "
+      << (binary ? "binary" : "ascii") << "\n";
+  std::string block;
+  // NaN as "nan" (what PCL's reader takes), whatever its sign bit.
+  auto text = [&](float v) {
+    if (std::isnan(v))
+      block += "nan";
+    else
+      putText(block, v);
+  };
+  for (std::size_t i = 0; i < cloud.size(); ++i) {
+    const PointT& p = cloud[i];
+    if (binary) {
+      putLittleEndian(block, p.x);
+      putLittleEndian(block, p.y);
+      putLittleEndian(block, p.z);
+      if constexpr (kLabel)
+        putLittleEndian(block, static_cast<std::uint32_t>(p.label));
+    } else {
+      text(p.x);
+      block += ' ';
+      text(p.y);
+      block += ' ';
+      text(p.z);
+      if constexpr (kLabel)
+        block += ' ' + std::to_string(p.label);
+      block += '\n';
+    }
+    if (block.size() >= (1u << 20) || i + 1 == cloud.size()) {
+      out.write(block.data(), static_cast<std::streamsize>(block.size()));
+      block.clear();
+    }
+  }
+  out.close();
+  if (!out)
+    throw IoError(detail::where(path) + "write error");
+}
+
 template <typename PointT>
 void save(const std::string& path, const pcl::PointCloud<PointT>& cloud, bool binary)
 {
@@ -489,33 +670,10 @@ void save(const std::string& path, const pcl::PointCloud<PointT>& cloud, bool bi
   if (ext != ".pcd" && ext != ".ply")
     throw FormatError(detail::where(path) + "unknown point cloud extension '" + ext +
                       "' (" + kCloudExtensions + ")");
-  if (ext == ".ply") {
+  if (ext == ".ply")
     writePly(path, cloud, binary);
-    return;
-  }
-  // PCL reports a file it cannot open only as an error code.
-  {
-    std::ofstream probe(path, std::ios::binary | std::ios::app);
-    if (!probe)
-      throw IoError(detail::where(path) + "cannot open for writing");
-  }
-  pcl::PCLPointCloud2 blob;
-  pcl::toPCLPointCloud2(cloud, blob);
-  // 9 significant digits: every float reads back exactly from ASCII.
-  constexpr int kFloatDigits = std::numeric_limits<float>::max_digits10;
-  pcl::PCDWriter writer;
-  int status = -1;
-  try {
-    status = binary ? writer.writeBinary(path, blob, Eigen::Vector4f::Zero(),
-                                         Eigen::Quaternionf::Identity())
-                    : writer.writeASCII(path, blob, Eigen::Vector4f::Zero(),
-                                        Eigen::Quaternionf::Identity(), kFloatDigits);
-  } catch (const std::exception& e) {
-    throw IoError(detail::where(path) + "cannot be written: " + e.what());
-  }
-  if (status < 0)
-    throw IoError(detail::where(path) + "cannot be written (PCL writer error " +
-                  std::to_string(status) + ")");
+  else
+    writePcd(path, cloud, binary);
 }
 
 } // namespace
@@ -532,12 +690,12 @@ void loadCloud(const std::string& path, CloudXYZL& cloud)
 
 void loadCloud(const std::string& path, CloudXYZ& cloud, const InputLimits& limits)
 {
-  fromBlob(path, readBlob(path, limits), cloud, false);
+  load(path, cloud, limits);
 }
 
 void loadCloud(const std::string& path, CloudXYZL& cloud, const InputLimits& limits)
 {
-  fromBlob(path, readBlob(path, limits), cloud, true);
+  load(path, cloud, limits);
 }
 
 void saveCloud(const std::string& path, const CloudXYZ& cloud, bool binary)

@@ -9,6 +9,8 @@
 #include <plantnbv/common/error.h>
 #include <plantnbv/io/depth_image_io.h>
 
+#include "io_util.h"
+
 namespace plantnbv {
 namespace io {
 
@@ -55,8 +57,7 @@ void loadDepthPngOfSize(const std::string& path, std::uint32_t& width,
   if (!(units_per_metre > 0.0) || !std::isfinite(units_per_metre))
     throw InvalidArgumentError("loadDepthPng: units_per_metre must be > 0, got " +
                                std::to_string(units_per_metre));
-  if (!std::ifstream(path, std::ios::binary))
-    throw IoError("cannot read depth image '" + path + "'");
+  detail::requireReadableFile(path);
   png_image image{};
   image.version = PNG_IMAGE_VERSION;
   if (!png_image_begin_read_from_file(&image, path.c_str()))

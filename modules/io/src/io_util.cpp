@@ -21,6 +21,9 @@ void requireReadableFile(const std::string& path)
     throw IoError(where(path) + "no such file");
   if (std::filesystem::is_directory(status))
     throw IoError(where(path) + "is a directory, expected a file");
+  // Opening a FIFO blocks until something writes to it; a device can be endless.
+  if (!std::filesystem::is_regular_file(status))
+    throw IoError(where(path) + "is not a regular file (a FIFO, socket or device)");
   std::ifstream in(path, std::ios::binary);
   if (!in)
     throw IoError(where(path) + "cannot open for reading");

@@ -117,7 +117,8 @@ ColladaAsset scanColladaAsset(const std::string& path, const std::string& head)
 std::string withoutCommentsAndCdata(const std::string& text)
 {
   std::string out = text;
-  for (std::size_t at = out.find("<!"); at != std::string::npos; at = out.find("<!", at)) {
+  for (std::size_t at = out.find("<!"); at != std::string::npos;
+       at = out.find("<!", at)) {
     const char* close = out.compare(at, 4, "<!--") == 0        ? "-->"
                         : out.compare(at, 9, "<![CDATA[") == 0 ? "]]>"
                                                                : nullptr;
@@ -126,7 +127,8 @@ std::string withoutCommentsAndCdata(const std::string& text)
       continue;
     }
     const std::size_t end = out.find(close, at);
-    const std::size_t stop = end == std::string::npos ? out.size() : end + std::strlen(close);
+    const std::size_t stop =
+        end == std::string::npos ? out.size() : end + std::strlen(close);
     for (std::size_t i = at; i < stop; ++i)
       if (out[i] != '\n')
         out[i] = ' ';
@@ -148,8 +150,9 @@ void forEachStartTag(std::string_view text, std::string_view name, F&& f)
           text[after] == '/'))
       continue;
     const std::size_t close = text.find('>', after);
-    f(at - 1, text.substr(at - 1, (close == std::string_view::npos ? text.size() : close) -
-                                      (at - 1)));
+    f(at - 1,
+      text.substr(at - 1,
+                  (close == std::string_view::npos ? text.size() : close) - (at - 1)));
   }
 }
 
@@ -269,18 +272,21 @@ void checkColladaForAssimp(const std::string& path, const std::string& file_text
 {
   const std::string text = withoutCommentsAndCdata(file_text);
   auto fail = [&](std::size_t at, const std::string& what) {
-    throw FormatError(detail::where(path) + "line " +
-                      std::to_string(1 + std::count(text.begin(), text.begin() + at, '\n')) +
-                      ": " + what);
+    throw FormatError(
+        detail::where(path) + "line " +
+        std::to_string(1 + std::count(text.begin(), text.begin() + at, '\n')) + ": " +
+        what);
   };
-  auto unsignedAttribute = [&](std::size_t at, std::string_view tag, std::string_view name,
-                               std::uint64_t fallback, const std::string& what) {
+  auto unsignedAttribute = [&](std::size_t at, std::string_view tag,
+                               std::string_view name, std::uint64_t fallback,
+                               const std::string& what) {
     std::string_view value;
     if (!attribute(tag, name, value))
       return fallback;
     std::uint64_t n = 0;
     const std::string_view v = trim(value);
-    if (v.empty() || std::from_chars(v.data(), v.data() + v.size(), n).ptr != v.data() + v.size())
+    if (v.empty() ||
+        std::from_chars(v.data(), v.data() + v.size(), n).ptr != v.data() + v.size())
       fail(at, what + " " + std::string(name) + " '" + std::string(value) +
                    "' is not a non-negative integer");
     return n;
@@ -302,7 +308,8 @@ void checkColladaForAssimp(const std::string& path, const std::string& file_text
         fail(at, what + " needs a count attribute holding a non-negative integer");
       // Each value takes at least one character and a separator.
       if (n > text.size() / 2 + 1)
-        fail(at, what + " count " + std::to_string(n) + " is more than the file can hold");
+        fail(at,
+             what + " count " + std::to_string(n) + " is more than the file can hold");
       std::string_view id;
       if (attribute(tag, "id", id) &&
           !arrays.emplace(std::string(id), Array{n, name[0] != 'N' && name[0] != 'I'})
@@ -333,15 +340,16 @@ void checkColladaForAssimp(const std::string& path, const std::string& file_text
     const Array& a = array->second;
     if (offset > a.count || count > (a.count - offset) / stride)
       fail(at, what + " reads " + std::to_string(count) + " x stride " +
-                   std::to_string(stride) + " values from offset " + std::to_string(offset) +
-                   " of '" + array->first + "', which holds " + std::to_string(a.count));
+                   std::to_string(stride) + " values from offset " +
+                   std::to_string(offset) + " of '" + array->first + "', which holds " +
+                   std::to_string(a.count));
     const std::size_t end = std::min(text.find("</accessor>", at), text.size());
     std::uint64_t params = 0;
     forEachStartTag(std::string_view(text).substr(at, end - at), "param",
                     [&](std::size_t, std::string_view) { ++params; });
     if (params > stride)
-      fail(at, what + " has " + std::to_string(params) + " <param>s, more than its stride " +
-                   std::to_string(stride));
+      fail(at, what + " has " + std::to_string(params) +
+                   " <param>s, more than its stride " + std::to_string(stride));
     const bool in_mesh = std::any_of(meshes.begin(), meshes.end(), [&](const auto& m) {
       return m.first < at && at < m.second;
     });
@@ -359,8 +367,9 @@ void checkColladaForAssimp(const std::string& path, const std::string& file_text
       const std::size_t end = text.find('<', begin);
       const std::size_t bad = text.find_first_not_of("0123456789 \t\r\n", begin);
       if (bad < end && bad != std::string::npos)
-        fail(bad, "<" + std::string(name) + "> must hold non-negative integers only, found '" +
-                      text[bad] + "'");
+        fail(bad, "<" + std::string(name) +
+                      "> must hold non-negative integers only, found '" + text[bad] +
+                      "'");
     });
 }
 

@@ -6,6 +6,7 @@
 #include <fstream>
 #include <limits>
 #include <sstream>
+#include <vector>
 
 #include <octomap/AbstractOcTree.h>
 #include <octomap/OcTree.h>
@@ -61,6 +62,71 @@ void writeBinaryNode(std::ostream& out, const octomap::OcTree& tree,
   for (unsigned i = 0; i < 8; ++i)
     if (tree.nodeChildExists(node, i) && tree.nodeHasChildren(tree.getNodeChild(node, i)))
       writeBinaryNode(out, tree, tree.getNodeChild(node, i));
+}
+
+/// Walks the node data of an OctoMap file without recursion, as OctoMap's readers will
+/// (depth first, a node's own bytes before its children's), and refuses what they would
+/// recurse into without end or read wrongly: a tree deeper than OctoMap's 16 levels,
+/// data that ends inside a node, and a node count other than the header's `size`
+/// (when it has one). `in` is at the node data and is left after it.
+/// .bt: each inner node is 2 bytes, 2 bits per child (01 occupied leaf, 10 free leaf,
+/// 11 inner node, 00 none). .ot: each node is its float log-odds and a byte of child
+/// bits.
+void checkOcTreeNodes(const std::string& path, std::istream& in, bool binary,
+                      std::uint64_t header_size, bool have_size)
+{
+  constexpr int kTreeDepth = 16; // OctoMap's fixed depth: leaves at 16 at the deepest
+  std::vector<char> buffer(1 << 16);
+  std::size_t pos = 0, end = 0;
+  auto readByte = [&](unsigned char& c) {
+    if (pos == end) {
+      in.read(buffer.data(), static_cast<std::streamsize>(buffer.size()));
+      end = static_cast<std::size_t>(in.gcount());
+      pos = 0;
+      if (end == 0)
+        return false;
+    }
+    c = static_cast<unsigned char>(buffer[pos++]);
+    return true;
+  };
+  auto truncated = [&] {
+    return FormatError("'" + path + "' is truncated or not a valid OctoMap " +
+                       (binary ? "binary (.bt)" : "(.ot)") +
+                       " file: its node data ends inside a node");
+  };
+  std::uint64_t nodes = 0;
+  std::vector<int> pending{0}; // the depths of the nodes still to read, root first
+  while (!pending.empty()) {
+    const int depth = pending.back();
+    pending.pop_back();
+    ++nodes;
+    unsigned char bytes[5];
+    const int n = binary ? 2 : 5;
+    for (int i = 0; i < n; ++i)
+      if (!readByte(bytes[i]))
+        throw truncated();
+    int children = 0, leaves = 0;
+    if (binary) {
+      for (int child = 0; child < 8; ++child) {
+        const unsigned bits = (bytes[child / 4] >> (2 * (child % 4))) & 3u;
+        children += bits == 3u;
+        leaves += bits == 1u || bits == 2u;
+      }
+    } else {
+      for (int child = 0; child < 8; ++child)
+        children += (bytes[4] >> child) & 1u;
+    }
+    if ((children > 0 || leaves > 0) && depth + 1 > kTreeDepth)
+      throw FormatError("'" + path + "' holds a tree deeper than OctoMap's " +
+                        std::to_string(kTreeDepth) + " levels");
+    nodes += static_cast<std::uint64_t>(leaves);
+    // Siblings are alike here (only their depth matters), so a stack reads them in
+    // the file's order.
+    pending.insert(pending.end(), static_cast<std::size_t>(children), depth + 1);
+  }
+  if (have_size && nodes != header_size)
+    throw FormatError("'" + path + "' holds " + std::to_string(nodes) +
+                      " nodes, its header says size " + std::to_string(header_size));
 }
 
 } // namespace
@@ -208,6 +274,8 @@ std::unique_ptr<octomap::OcTree> readOcTree(const std::string& path,
     const char* kind = binary ? "binary (.bt)" : "(.ot)";
     std::string id, token;
     double res = 0.0;
+    std::uint64_t size = 0;
+    bool have_size = false;
     while (in >> token) {
       if (token == "data") {
         in.ignore(std::numeric_limits<std::streamsize>::max(), '\n'); // rest of the line
@@ -217,6 +285,8 @@ std::unique_ptr<octomap::OcTree> readOcTree(const std::string& path,
         in >> id;
       else if (token == "res")
         in >> res;
+      else if (token == "size")
+        have_size = static_cast<bool>(in >> size);
       else {
         std::string rest;
         std::getline(in, rest); // "size", comments and unknown lines
@@ -231,6 +301,11 @@ std::unique_ptr<octomap::OcTree> readOcTree(const std::string& path,
     if (!(res > 0.0) || !std::isfinite(res))
       throw FormatError("'" + path + "' has resolution " + std::to_string(res) +
                         ", expected a finite value > 0");
+    // OctoMap's readers recurse as deep as the data says: checked first, then re-read.
+    const std::streampos body = in.tellg();
+    checkOcTreeNodes(path, in, binary, size, have_size);
+    in.clear();
+    in.seekg(body);
     auto tree = std::make_unique<octomap::OcTree>(res);
     if (binary)
       tree->readBinaryData(in);
