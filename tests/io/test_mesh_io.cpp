@@ -101,9 +101,10 @@ TEST(MeshIo, ColladaOptionsOverrideTheFile)
 
 namespace {
 
-/// A one-triangle Collada file: (0,0,0), (1,0,0), (0,2,0) in a node "n1" without a name
-/// attribute, translated by (0, 0, 5), with the given <asset> content.
-std::string oneTriangleCollada(const std::string& asset)
+/// A Collada file whose one geometry "tri" is the triangle (0,0,0), (1,0,0), (0,2,0),
+/// with the given <asset> content, <library_nodes> content and visual scene.
+std::string triangleCollada(const std::string& asset, const std::string& library_nodes,
+                            const std::string& scene)
 {
   return R"(<?xml version="1.0" encoding="utf-8"?>
 <COLLADA xmlns="http://www.collada.org/2005/11/COLLADASchema" version="1.4.1">
@@ -120,12 +121,28 @@ std::string oneTriangleCollada(const std::string& asset)
       <triangles count="1"><input semantic="VERTEX" source="#v" offset="0"/><p>0 1 2</p></triangles>
     </mesh></geometry>
   </library_geometries>
-  <library_visual_scenes><visual_scene id="s">
-    <node id="n1"><translate>0 0 5</translate><instance_geometry url="#tri"/></node>
-  </visual_scene></library_visual_scenes>
+  <library_nodes>)" +
+         library_nodes +
+         R"(</library_nodes>
+  <library_visual_scenes><visual_scene id="s">)" +
+         scene + R"(</visual_scene></library_visual_scenes>
   <scene><instance_visual_scene url="#s"/></scene>
 </COLLADA>
 )";
+}
+
+/// The triangle in a node "n1" without a name attribute, translated by (0, 0, 5).
+std::string oneTriangleCollada(const std::string& asset)
+{
+  return triangleCollada(
+      asset, "",
+      R"(<node id="n1"><translate>0 0 5</translate><instance_geometry url="#tri"/></node>)");
+}
+
+/// The triangle with the given <library_nodes> and visual scene content.
+std::string colladaWithNodes(const std::string& library_nodes, const std::string& scene)
+{
+  return triangleCollada("", library_nodes, scene);
 }
 
 } // namespace
@@ -206,33 +223,6 @@ TEST(MeshIo, ColladaAccessorsOutsideTheirArraysAreRefusedBeforeAssimp)
   const TriangleMesh commented = loadMesh(dir.write(
       "comment.dae", variant(array, "<!-- <accessor count='x'> <p>q</p> -->" + array)));
   EXPECT_EQ(commented.size(), 1u);
-}
-
-/// A Collada file of one triangle geometry with the given <library_nodes> and visual
-/// scene content.
-std::string colladaWithNodes(const std::string& library_nodes, const std::string& scene)
-{
-  return R"(<?xml version="1.0" encoding="utf-8"?>
-<COLLADA xmlns="http://www.collada.org/2005/11/COLLADASchema" version="1.4.1">
-  <asset></asset>
-  <library_geometries>
-    <geometry id="tri"><mesh>
-      <source id="p"><float_array id="pa" count="9">0 0 0  1 0 0  0 2 0</float_array>
-        <technique_common><accessor source="#pa" count="3" stride="3">
-          <param name="X" type="float"/><param name="Y" type="float"/><param name="Z" type="float"/>
-        </accessor></technique_common></source>
-      <vertices id="v"><input semantic="POSITION" source="#p"/></vertices>
-      <triangles count="1"><input semantic="VERTEX" source="#v" offset="0"/><p>0 1 2</p></triangles>
-    </mesh></geometry>
-  </library_geometries>
-  <library_nodes>)" +
-         library_nodes +
-         R"(</library_nodes>
-  <library_visual_scenes><visual_scene id="s">)" +
-         scene + R"(</visual_scene></library_visual_scenes>
-  <scene><instance_visual_scene url="#s"/></scene>
-</COLLADA>
-)";
 }
 
 TEST(MeshIo, ColladaNodeGraphsThatRecurseOrExplodeAreRefusedBeforeAssimp)

@@ -558,28 +558,30 @@ void putLittleEndian(std::string& out, T v)
   out.append(reinterpret_cast<const char*>(bytes), sizeof(T));
 }
 
-/// Appends the shortest text that reads back as exactly v.
+/// Appends the shortest text that reads back as exactly v; NaN as "nan" (what PCL's
+/// readers take), whatever its sign bit.
 void putText(std::string& out, float v)
 {
+  if (std::isnan(v)) {
+    out += "nan";
+    return;
+  }
   char buf[32];
   const auto r = std::to_chars(buf, buf + sizeof(buf), v);
   out.append(buf, r.ptr);
 }
 
-/// Our PLY cloud writer: PCL 1.13's PLYWriter ignores the precision of ASCII files (6
-/// digits) and adds camera and face elements that other tools do not expect.
+/// Writes a file: the header, then x y z (float) and, for XYZL, label (uint) of each
+/// point, little-endian binary or one text line a point (the same layout in PCD and
+/// PLY).
 template <typename PointT>
-void writePly(const std::string& path, const pcl::PointCloud<PointT>& cloud, bool binary)
+void writeCloudFile(const std::string& path, const std::string& header,
+                    const pcl::PointCloud<PointT>& cloud, bool binary)
 {
-  constexpr bool kLabel = std::is_same_v<PointT, pcl::PointXYZL>;
   std::ofstream out(path, std::ios::binary | std::ios::trunc);
   if (!out)
     throw IoError(detail::where(path) + "cannot open for writing");
-  out << "ply\nformat " << (binary ? "binary_little_endian" : "ascii") << " 1.0\n"
-      << "comment written by plantnbv\n"
-      << "element vertex " << cloud.size() << "\n"
-      << "property float x\nproperty float y\nproperty float z\n"
-      << (kLabel ? "property uint label\n" : "") << "end_header\n";
+  out << header;
   std::string block;
   for (std::size_t i = 0; i < cloud.size(); ++i) {
     const PointT& p = cloud[i];
@@ -587,7 +589,7 @@ void writePly(const std::string& path, const pcl::PointCloud<PointT>& cloud, boo
       putLittleEndian(block, p.x);
       putLittleEndian(block, p.y);
       putLittleEndian(block, p.z);
-      if constexpr (kLabel)
+      if constexpr (std::is_same_v<PointT, pcl::PointXYZL>)
         putLittleEndian(block, static_cast<std::uint32_t>(p.label));
     } else {
       putText(block, p.x);
@@ -595,7 +597,7 @@ void writePly(const std::string& path, const pcl::PointCloud<PointT>& cloud, boo
       putText(block, p.y);
       block += ' ';
       putText(block, p.z);
-      if constexpr (kLabel)
+      if constexpr (std::is_same_v<PointT, pcl::PointXYZL>)
         block += ' ' + std::to_string(p.label);
       block += '\n';
     }
@@ -609,58 +611,38 @@ void writePly(const std::string& path, const pcl::PointCloud<PointT>& cloud, boo
     throw IoError(detail::where(path) + "write error");
 }
 
-/// Our PCD writer: x y z (float) and, for XYZL, label (uint); organized clouds keep
-/// their width and height. ASCII values are the shortest text that reads back exactly.
+/// A PLY header of one vertex element, nothing else (PCL 1.13's PLYWriter ignores the
+/// precision of ASCII files and adds camera and face elements other tools do not
+/// expect).
 template <typename PointT>
-void writePcd(const std::string& path, const pcl::PointCloud<PointT>& cloud, bool binary)
+std::string plyHeader(const pcl::PointCloud<PointT>& cloud, bool binary)
 {
   constexpr bool kLabel = std::is_same_v<PointT, pcl::PointXYZL>;
-  std::ofstream out(path, std::ios::binary | std::ios::trunc);
-  if (!out)
-    throw IoError(detail::where(path) + "cannot open for writing");
+  std::ostringstream h;
+  h << "ply\nformat " << (binary ? "binary_little_endian" : "ascii") << " 1.0\n"
+    << "comment written by plantnbv\n"
+    << "element vertex " << cloud.size() << "\n"
+    << "property float x\nproperty float y\nproperty float z\n"
+    << (kLabel ? "property uint label\n" : "") << "end_header\n";
+  return h.str();
+}
+
+/// A PCD header; organized clouds keep their width and height.
+template <typename PointT>
+std::string pcdHeader(const pcl::PointCloud<PointT>& cloud, bool binary)
+{
+  constexpr bool kLabel = std::is_same_v<PointT, pcl::PointXYZL>;
   const bool organized =
       cloud.height > 1 && std::uint64_t{cloud.width} * cloud.height == cloud.size();
-  out << "# .PCD v0.7 - Point Cloud Data file format, written by plantnbv\n"
-      << "VERSION 0.7\nFIELDS x y z" << (kLabel ? " label" : "") << "\nSIZE 4 4 4"
-      << (kLabel ? " 4" : "") << "\nTYPE F F F" << (kLabel ? " U" : "") << "\nCOUNT 1 1 1"
-      << (kLabel ? " 1" : "") << "\nWIDTH " << (organized ? cloud.width : cloud.size())
-      << "\nHEIGHT " << (organized ? cloud.height : 1)
-      << "\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS " << cloud.size() << "\nDATA "
-      << (binary ? "binary" : "ascii") << "\n";
-  std::string block;
-  // NaN as "nan" (what PCL's reader takes), whatever its sign bit.
-  auto text = [&](float v) {
-    if (std::isnan(v))
-      block += "nan";
-    else
-      putText(block, v);
-  };
-  for (std::size_t i = 0; i < cloud.size(); ++i) {
-    const PointT& p = cloud[i];
-    if (binary) {
-      putLittleEndian(block, p.x);
-      putLittleEndian(block, p.y);
-      putLittleEndian(block, p.z);
-      if constexpr (kLabel)
-        putLittleEndian(block, static_cast<std::uint32_t>(p.label));
-    } else {
-      text(p.x);
-      block += ' ';
-      text(p.y);
-      block += ' ';
-      text(p.z);
-      if constexpr (kLabel)
-        block += ' ' + std::to_string(p.label);
-      block += '\n';
-    }
-    if (block.size() >= (1u << 20) || i + 1 == cloud.size()) {
-      out.write(block.data(), static_cast<std::streamsize>(block.size()));
-      block.clear();
-    }
-  }
-  out.close();
-  if (!out)
-    throw IoError(detail::where(path) + "write error");
+  std::ostringstream h;
+  h << "# .PCD v0.7 - Point Cloud Data file format, written by plantnbv\n"
+    << "VERSION 0.7\nFIELDS x y z" << (kLabel ? " label" : "") << "\nSIZE 4 4 4"
+    << (kLabel ? " 4" : "") << "\nTYPE F F F" << (kLabel ? " U" : "") << "\nCOUNT 1 1 1"
+    << (kLabel ? " 1" : "") << "\nWIDTH " << (organized ? cloud.width : cloud.size())
+    << "\nHEIGHT " << (organized ? cloud.height : 1)
+    << "\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS " << cloud.size() << "\nDATA "
+    << (binary ? "binary" : "ascii") << "\n";
+  return h.str();
 }
 
 template <typename PointT>
@@ -670,10 +652,9 @@ void save(const std::string& path, const pcl::PointCloud<PointT>& cloud, bool bi
   if (ext != ".pcd" && ext != ".ply")
     throw FormatError(detail::where(path) + "unknown point cloud extension '" + ext +
                       "' (" + kCloudExtensions + ")");
-  if (ext == ".ply")
-    writePly(path, cloud, binary);
-  else
-    writePcd(path, cloud, binary);
+  writeCloudFile(path,
+                 ext == ".ply" ? plyHeader(cloud, binary) : pcdHeader(cloud, binary),
+                 cloud, binary);
 }
 
 } // namespace
