@@ -10,6 +10,7 @@
 #include <unistd.h>
 
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 #include <octomap/ColorOcTree.h>
 #include <octomap/OcTree.h>
 #include <pcl/point_cloud.h>
@@ -307,6 +308,16 @@ TEST(OctreeConversion, ReadErrors)
   }
   EXPECT_THROW(plantnbv::readOcTree(std::filesystem::temp_directory_path().string()),
                plantnbv::IoError);
+  // A FIFO is refused by name, without blocking on it.
+  const std::string fifo = tempPath("fifo.bt");
+  ASSERT_EQ(mkfifo(fifo.c_str(), 0600), 0);
+  try {
+    plantnbv::readOcTree(fifo);
+    ADD_FAILURE();
+  } catch (const plantnbv::IoError& e) {
+    EXPECT_NE(std::string(e.what()).find("is not a regular file"), std::string::npos);
+  }
+  std::filesystem::remove(fifo);
 
   // Not an octree (whatever the extension): FormatError.
   for (const std::string name : {"text.bt", "text.ot", "empty.ot"}) {

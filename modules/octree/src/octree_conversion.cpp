@@ -257,6 +257,10 @@ std::unique_ptr<octomap::OcTree> readOcTree(const std::string& path,
     throw IoError("octree file '" + path + "' does not exist");
   if (std::filesystem::is_directory(path, ec))
     throw IoError("octree file '" + path + "' is a directory");
+  // Opening a FIFO blocks until something writes to it; a device can be endless.
+  if (!std::filesystem::is_regular_file(path, ec))
+    throw IoError("octree file '" + path +
+                  "' is not a regular file (a FIFO, socket or device)");
   std::ifstream in(path, std::ios::binary);
   if (!in)
     throw IoError("cannot open octree file '" + path + "' for reading");
