@@ -98,13 +98,16 @@ FormatError missingAxis(const std::string& path, const char* axis)
 
 // ---- PCD ------------------------------------------------------------------------------
 
+/// Decodes one value of a field from its bytes in the file.
+using ValueDecoder = double (*)(const std::uint8_t*);
+
 struct PcdField {
   std::string name;
   char type = 'F';          ///< I (signed), U (unsigned) or F (floating point)
   std::uint64_t size = 4;   ///< bytes of one value: 1, 2, 4 or 8 (F: 4 or 8)
   std::uint64_t count = 1;  ///< values per point
   std::uint64_t offset = 0; ///< bytes from the start of a point record
-  double (*decode)(const std::uint8_t*) = nullptr; ///< one value from its bytes
+  ValueDecoder decode = nullptr; ///< chosen once per file (decoderOf)
 };
 
 struct PcdHeader {
@@ -133,7 +136,6 @@ double littleEndianValue(const std::uint8_t* p)
 }
 
 /// The decoder of a field's values, chosen once per file.
-using ValueDecoder = double (*)(const std::uint8_t*);
 ValueDecoder decoderOf(char type, std::uint64_t size)
 {
   if (type == 'F')
@@ -147,11 +149,6 @@ ValueDecoder decoderOf(char type, std::uint64_t size)
          : size == 2 ? littleEndianValue<std::uint16_t>
          : size == 4 ? littleEndianValue<std::uint32_t>
                      : littleEndianValue<std::uint64_t>;
-}
-
-double pcdValue(const std::uint8_t* p, const PcdField& f)
-{
-  return f.decode(p);
 }
 
 /// Reads and checks a PCD header, `in` left at the data; nothing is allocated for the
@@ -342,12 +339,14 @@ template <typename PointT>
 void readPcdAscii(const std::string& path, std::ifstream& in, const PcdHeader& h,
                   CloudFiller<PointT>& filler)
 {
-  // The value index of each kept field in a line.
-  std::vector<std::uint64_t> first_value(h.fields.size());
-  for (std::size_t i = 1; i < h.fields.size(); ++i)
-    first_value[i] = first_value[i - 1] + h.fields[i - 1].count;
+  // Where each field's values start in a line. Nothing is sized by the header's counts
+  // (up to 65536 per field): a line's values are held once the line has them all.
+  std::vector<std::size_t> first_value(h.fields.size());
+  for (std::size_t f = 1; f < h.fields.size(); ++f)
+    first_value[f] = first_value[f - 1] + h.fields[f - 1].count;
   std::string line;
   std::vector<std::string_view> tokens;
+  std::vector<double> values;
   std::uint64_t point = 0;
   for (std::uint64_t n = 1; std::getline(in, line); ++n) {
     tokens.clear();
@@ -367,31 +366,25 @@ void readPcdAscii(const std::string& path, std::ifstream& in, const PcdHeader& h
     if (tokens.size() != h.values)
       fail(std::to_string(tokens.size()) + " values, expected " +
            std::to_string(h.values));
-    for (std::size_t t = 0; t < tokens.size(); ++t) {
-      double v = 0.0;
-      // Which field the token belongs to, for its type.
-      const std::size_t f = static_cast<std::size_t>(
-          std::upper_bound(first_value.begin(), first_value.end(), t) -
-          first_value.begin() - 1);
-      if (!parseAsciiValue(tokens[t], h.fields[f], v)) {
+    values.resize(tokens.size());
+    for (std::size_t t = 0, field = 0; t < tokens.size(); ++t) {
+      while (field + 1 < first_value.size() && first_value[field + 1] <= t)
+        ++field;
+      const PcdField& f = h.fields[field];
+      if (!parseAsciiValue(tokens[t], f, values[t])) {
         std::string shown(tokens[t].substr(0, 32));
         for (char& c : shown)
           if (!std::isprint(static_cast<unsigned char>(c)))
             c = '?';
-        fail("'" + shown + "' is not a" +
-             (h.fields[f].type == 'F' ? " number" : " whole number") + " (field '" +
-             h.fields[f].name + "')");
+        fail("'" + shown + "' is not a" + (f.type == 'F' ? " number" : " whole number") +
+             " (field '" + f.name + "')");
       }
     }
     auto value = [&](int field) {
-      double v = 0.0;
-      parseAsciiValue(tokens[first_value[static_cast<std::size_t>(field)]],
-                      h.fields[static_cast<std::size_t>(field)], v);
-      return v;
+      return values[first_value[static_cast<std::size_t>(field)]];
     };
-    PointValues p{value(h.x), value(h.y), value(h.z),
-                  h.label >= 0 ? value(h.label) : 0.0};
-    filler.set(static_cast<std::size_t>(point++), p);
+    filler.set(static_cast<std::size_t>(point++),
+               {value(h.x), value(h.y), value(h.z), h.label >= 0 ? value(h.label) : 0.0});
   }
   if (point < h.points)
     throw FormatError(detail::where(path) + "truncated: " + std::to_string(point) +
@@ -415,7 +408,7 @@ void readPcdBinary(const std::string& path, std::ifstream& in, const PcdHeader& 
       const std::uint8_t* record = block.data() + i * h.point_size;
       auto value = [&](int field) {
         const PcdField& f = h.fields[static_cast<std::size_t>(field)];
-        return pcdValue(record + f.offset, f);
+        return f.decode(record + f.offset);
       };
       filler.set(
           static_cast<std::size_t>(first + i),
@@ -446,7 +439,7 @@ void readPcdCompressed(const std::string& path, std::ifstream& in, const PcdHead
     const PcdField& f = h.fields[static_cast<std::size_t>(field)];
     // Field f's values start after the values of the fields before it, for all points.
     const std::uint64_t start = h.points * f.offset;
-    return pcdValue(data.data() + start + i * f.size * f.count, f);
+    return f.decode(data.data() + start + i * f.size * f.count);
   };
   for (std::uint64_t i = 0; i < h.points; ++i)
     filler.set(static_cast<std::size_t>(i), {value(h.x, i), value(h.y, i), value(h.z, i),
