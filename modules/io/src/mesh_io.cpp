@@ -5,6 +5,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <string_view>
 #include <unordered_map>
 #include <vector>
@@ -350,9 +351,12 @@ void checkColladaForAssimp(const std::string& path, const std::string& file_text
     if (params > stride)
       fail(at, what + " has " + std::to_string(params) +
                    " <param>s, more than its stride " + std::to_string(stride));
-    const bool in_mesh = std::any_of(meshes.begin(), meshes.end(), [&](const auto& m) {
-      return m.first < at && at < m.second;
-    });
+    // <mesh> elements do not nest and are found in file order: the last one that starts
+    // before the accessor is the only one that can hold it.
+    const auto after = std::upper_bound(
+        meshes.begin(), meshes.end(), at,
+        [](std::size_t a, const auto& m) { return a < m.first; });
+    const bool in_mesh = after != meshes.begin() && at < std::prev(after)->second;
     if (in_mesh && !a.numeric)
       fail(at, what + " of a <mesh> reads '" + array->first +
                    "', which holds names, not numbers");
