@@ -22,7 +22,6 @@
 #include <plantnbv/io/frames_folder.h>
 #include <plantnbv/io/roi_io.h>
 #include <plantnbv/metrics/reconstruction_metrics.h>
-#include <plantnbv/scenario/trial_config_file.h>
 #include <plantnbv/scenario/trial_setup.h>
 #include <plantnbv/viz/palette.h>
 #include <plantnbv/viz/snapshot.h>
@@ -40,48 +39,20 @@ using scenario::PlacedPlant;
 
 struct ReconstructOptions {
   PlantOptions plant;
-  std::string config_file;
-  std::optional<std::string> planner;
-  std::optional<int> pattern;
+  scenario::TrialOverrides trial;
   std::string attention = "whole_plant";
-  std::optional<int> views;
-  std::optional<int> candidates;
-  std::optional<double> resolution;
-  std::optional<double> sector_height;
-  std::optional<std::uint64_t> seed;
-  std::optional<int> threads;
   std::string output_dir;
   bool snapshot = false;
   std::string frames_out;
-  std::optional<double> depth_scale;
 };
 
 TrialConfig trialConfig(const ReconstructOptions& o, const PlacedPlant& placed)
 {
-  TrialConfig c;
-  if (!o.config_file.empty())
-    scenario::loadTrialConfig(o.config_file, c);
-  if (o.planner)
-    c.planner = plannerKindFromName(*o.planner);
-  if (o.pattern)
-    c.pattern = *o.pattern;
-  if (o.views)
-    c.views = *o.views;
-  if (o.candidates)
-    scenario::setCandidateCount(*o.candidates, "--candidates", c);
-  if (o.resolution)
-    c.map.resolution_m = *o.resolution;
-  if (o.seed)
-    c.seed = *o.seed;
-  if (o.threads)
-    c.threads = *o.threads;
-  if (o.depth_scale)
-    c.depth_scale = *o.depth_scale;
-  else if (!o.frames_out.empty() && c.depth_scale == 0.0)
-    c.depth_scale =
-        1000.0; // frames replay to the map only if the trial rounds as PNGs do
-  scenario::fitSectorToPlant(placed, o.sector_height, c);
-  c.validate();
+  TrialConfig c = scenario::makeTrialConfig(o.trial, placed, "--candidates");
+  if (!o.frames_out.empty() && !o.trial.depth_scale && c.depth_scale == 0.0) {
+    c.depth_scale = 1000.0; // frames replay to the map only if depth is rounded as PNGs
+    c.validate();
+  }
   return c;
 }
 
@@ -148,7 +119,7 @@ nlohmann::json summaryJson(const ReconstructOptions& o, const PlacedPlant& place
         {"radius", sector.radius_m},
         {"height", sector.height_m},
         {"angle_deg", sector.angle_rad * 180.0 / M_PI}}},
-      {"config_file", o.config_file},
+      {"config_file", o.trial.config_file},
   };
   nlohmann::json levels = nlohmann::json::object();
   for (std::size_t l = 0; l < r.level_names.size(); ++l) {
@@ -319,30 +290,30 @@ void addReconstructCommand(CLI::App& app)
       "reconstruct", "Run one reconstruction trial with a planner; write the steps, a "
                      "summary, the map and the reconstruction");
   addPlantOptions(*cmd, o->plant, "--plant");
-  cmd->add_option("--config", o->config_file,
+  cmd->add_option("--config", o->trial.config_file,
                   "Trial config (YAML, e.g. data/paper.yaml); options below override it");
-  cmd->add_option("--planner", o->planner, "nbv, predefined or random (default nbv)");
-  cmd->add_option("--pattern", o->pattern, "Pattern of the predefined planner, 1-4");
+  cmd->add_option("--planner", o->trial.planner, "nbv, predefined or random (default nbv)");
+  cmd->add_option("--pattern", o->trial.pattern, "Pattern of the predefined planner, 1-4");
   cmd->add_option(
          "--attention", o->attention,
          "ROI of the NBV planner: whole_plant, main_stem, leaf_nodes, fruit ('-' "
          "for '_' works too) or an ROI file")
       ->capture_default_str();
-  cmd->add_option("--views", o->views, "View budget, v0 included (default 10)");
-  cmd->add_option("--candidates", o->candidates,
+  cmd->add_option("--views", o->trial.views, "View budget, v0 included (default 10)");
+  cmd->add_option("--candidates", o->trial.candidates,
                   "Candidates per step: 9, 27 (default) or 45 (1, 3, 5 per grid cell)");
-  cmd->add_option("--resolution", o->resolution, "Map voxel size in metres (0.003)");
-  cmd->add_option("--sector-height", o->sector_height,
+  cmd->add_option("--resolution", o->trial.resolution_m, "Map voxel size in metres (0.003)");
+  cmd->add_option("--sector-height", o->trial.sector_height_m,
                   "Height of the cylindrical sector in metres (0.7; a loaded model: "
                   "its height)");
-  cmd->add_option("--seed", o->seed, "Seed of the trial (default 0)");
-  cmd->add_option("--threads", o->threads, "Threads (default: all cores)");
+  cmd->add_option("--seed", o->trial.seed, "Seed of the trial (default 0)");
+  cmd->add_option("--threads", o->trial.threads, "Threads (default: all cores)");
   cmd->add_option("-o,--output", o->output_dir, "Output directory")->required();
   cmd->add_option(
       "--frames-out", o->frames_out,
       "Write every view's frame to this new frames folder (docs/real-robot.md); "
       "the trial then integrates depth rounded as the PNGs store it");
-  cmd->add_option("--depth-scale", o->depth_scale,
+  cmd->add_option("--depth-scale", o->trial.depth_scale,
                   "Depth units per metre the trial rounds to (default 0: none; 1000 with "
                   "--frames-out)");
   cmd->add_flag(

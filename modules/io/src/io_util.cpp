@@ -18,7 +18,7 @@ void requireReadableFile(const std::string& path)
   std::error_code ec;
   const auto status = std::filesystem::status(path, ec);
   if (ec || !std::filesystem::exists(status))
-    throw IoError(where(path) + "no such file");
+    throw FileNotFoundError(where(path) + "no such file");
   if (std::filesystem::is_directory(status))
     throw IoError(where(path) + "is a directory, expected a file");
   // Opening a FIFO blocks until something writes to it; a device can be endless.

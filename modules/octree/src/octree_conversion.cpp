@@ -254,7 +254,7 @@ std::unique_ptr<octomap::OcTree> readOcTree(const std::string& path,
   // Checked here so that a missing file is an IoError before OctoMap prints anything.
   std::error_code ec;
   if (!std::filesystem::exists(path, ec))
-    throw IoError("octree file '" + path + "' does not exist");
+    throw FileNotFoundError("octree file '" + path + "' does not exist");
   if (std::filesystem::is_directory(path, ec))
     throw IoError("octree file '" + path + "' is a directory");
   // Opening a FIFO blocks until something writes to it; a device can be endless.

@@ -3,6 +3,7 @@
 
 #include <plantnbv/common/error.h>
 #include <plantnbv/io/roi_io.h>
+#include <plantnbv/scenario/trial_config_file.h>
 #include <plantnbv/scenario/trial_setup.h>
 
 namespace plantnbv {
@@ -91,6 +92,33 @@ void fitSectorToPlant(const PlacedPlant& placed, std::optional<double> sector_he
   placed.plant.bounds(lo, hi);
   config.sector.height_m =
       std::max(0.05, double(hi.z()) - placed.plant.base_position.z());
+}
+
+TrialConfig makeTrialConfig(const TrialOverrides& o, const PlacedPlant& placed,
+                            const std::string& candidates_name)
+{
+  TrialConfig c;
+  if (!o.config_file.empty())
+    loadTrialConfig(o.config_file, c);
+  if (o.planner)
+    c.planner = plannerKindFromName(*o.planner);
+  if (o.pattern)
+    c.pattern = *o.pattern;
+  if (o.views)
+    c.views = *o.views;
+  if (o.candidates)
+    setCandidateCount(*o.candidates, candidates_name, c);
+  if (o.resolution_m)
+    c.map.resolution_m = *o.resolution_m;
+  if (o.seed)
+    c.seed = *o.seed;
+  if (o.threads)
+    c.threads = *o.threads;
+  if (o.depth_scale)
+    c.depth_scale = *o.depth_scale;
+  fitSectorToPlant(placed, o.sector_height_m, c);
+  c.validate();
+  return c;
 }
 
 void setUpTrial(const PlacedPlant& placed, const Roi& attention,

@@ -27,6 +27,13 @@ public:
   using Error::Error;
 };
 
+/// \brief A file or folder that should be read does not exist (Python's
+/// FileNotFoundError).
+class FileNotFoundError : public IoError {
+public:
+  using IoError::IoError;
+};
+
 /// \brief A file was read but its content is malformed, empty or of an unknown type.
 class FormatError : public Error {
 public:

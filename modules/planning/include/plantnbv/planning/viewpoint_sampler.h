@@ -30,3 +30,22 @@ public:
 };
 
 } // namespace plantnbv
+
+namespace plantnbv {
+
+/// \brief The same given viewpoints at every step: a robot's reachable poses, or views
+/// from another planner, ranked by the gain (the Rng is not used).
+class ViewpointListSampler : public ViewpointSampler {
+public:
+  explicit ViewpointListSampler(std::vector<Viewpoint> viewpoints)
+      : viewpoints_(std::move(viewpoints))
+  {
+  }
+  const std::vector<Viewpoint>& getViewpoints() const { return viewpoints_; }
+  void sample(Rng&, std::vector<Viewpoint>& out) const override { out = viewpoints_; }
+
+private:
+  std::vector<Viewpoint> viewpoints_;
+};
+
+} // namespace plantnbv

@@ -4,6 +4,7 @@
 /// campaigns and Python: its evaluation levels, the planner's attention ROI, the sector
 /// that follows a loaded model, the candidate count.
 
+#include <cstdint>
 #include <optional>
 #include <string>
 #include <vector>
@@ -58,6 +59,28 @@ void setCandidateCount(int candidates, const std::string& what, TrialConfig& con
 /// plant keeps the config's sector.
 void fitSectorToPlant(const PlacedPlant& placed, std::optional<double> sector_height_m,
                       TrialConfig& config);
+
+/// \brief What `plantnbv reconstruct` and Python's run_trial set over a trial config
+/// file; what is unset keeps the file's value, or the built-in default.
+struct TrialOverrides {
+  std::string config_file; ///< a trial config (loadTrialConfig); empty: the defaults
+  std::optional<std::string> planner; ///< nbv, predefined, random
+  std::optional<int> pattern;
+  std::optional<int> views;
+  std::optional<int> candidates; ///< per step, a multiple of the grid cells
+  std::optional<double> resolution_m;
+  std::optional<double> sector_height_m; ///< else fitSectorToPlant's rule
+  std::optional<std::uint64_t> seed;
+  std::optional<int> threads;
+  std::optional<double> depth_scale;
+};
+
+/// \brief The trial config of `placed`: the file, the overrides, the sector fitted to
+/// the plant, validated. `candidates_name` names the candidate count in messages
+/// ("--candidates"). \throws as loadTrialConfig, setCandidateCount and
+/// TrialConfig::validate.
+TrialConfig makeTrialConfig(const TrialOverrides& overrides, const PlacedPlant& placed,
+                            const std::string& candidates_name = "candidates");
 
 /// \brief Gives `trial` the plant, the attention ROI and the levels.
 void setUpTrial(const PlacedPlant& placed, const Roi& attention,
