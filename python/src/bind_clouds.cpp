@@ -20,6 +20,7 @@
 #include <plantnbv/io/roi_io.h>
 #include <plantnbv/metrics/reconstruction_metrics.h>
 #include <plantnbv/sampling/mesh_sampler.h>
+#include <plantnbv/scenario/geometry_input.h>
 
 #include "arrays.h"
 #include "bindings.h"
@@ -277,6 +278,25 @@ void bindClouds(py::module_& m)
       "path"_a, "points"_a, "labels"_a = py::none(), "binary"_a = true,
       "Writes a .pcd or .ply cloud (x y z float, and label uint when labels are given) "
       "that read_cloud and PCL read back exactly.");
+  m.def(
+      "read_geometry",
+      [](const Path& path, double resolution_m, std::size_t mesh_points,
+         std::uint64_t seed) {
+        CloudXYZ cloud;
+        std::string summary;
+        {
+          py::gil_scoped_release release;
+          scenario::loadGeometryAsCloud(
+              path.string(), "path", {resolution_m, mesh_points, seed}, cloud, summary);
+        }
+        return pointsArray(cloud);
+      },
+      "path"_a, "resolution_m"_a = 0.003, "mesh_points"_a = 0, "seed"_a = 0,
+      "Any geometry file as (N, 3) float32 points, as `plantnbv eval` reads its inputs: "
+      "a "
+      "cloud's finite points; a mesh sampled (mesh_points, 0: automatic; seeded) and "
+      "reduced to the centres of the voxels of resolution_m it falls in (the ground "
+      "truth of trials); an octree's occupied voxel centres.");
   m.def(
       "read_mesh",
       [](const Path& path, const std::string& up_axis, double scale) {

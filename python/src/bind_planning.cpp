@@ -514,9 +514,21 @@ void bindSession(py::module_& m)
           },
           "One planning step on the current map: the ranked candidates.")
       .def_property_readonly("map", &ActiveVisionSession::getMap)
-      .def("read_map", &ActiveVisionSession::readMap, "path"_a,
-           "Replaces the map by a file's; False if it was a .bt (no uncertainty).")
-      .def("write_map", &ActiveVisionSession::writeMap, "path"_a);
+      .def(
+          "read_map",
+          [](ActiveVisionSession& s, const Path& path) {
+            py::gil_scoped_release release;
+            return s.readMap(path.string());
+          },
+          "path"_a,
+          "Replaces the map by a file's; False if it was a .bt (no uncertainty).")
+      .def(
+          "write_map",
+          [](const ActiveVisionSession& s, const Path& path) {
+            py::gil_scoped_release release;
+            s.writeMap(path.string());
+          },
+          "path"_a, "Writes the map, .ot (log-odds) or .bt, by extension.");
 }
 
 } // namespace

@@ -1,12 +1,16 @@
 #!/usr/bin/env bash
-# Usage: install_and_consume.sh BUILD_DIR CONSUMER_SOURCE WORK_DIR CMAKE [ROBOT_CONSUMER_SOURCE]
+# Usage: install_and_consume.sh BUILD_DIR CONSUMER_SOURCE WORK_DIR CMAKE [ROBOT_CONSUMER_SOURCE
+#        [PYTHON]]
 # Installs the build into WORK_DIR/prefix, then builds and runs two projects of others
 # against it: CONSUMER_SOURCE (plantnbv::metrics only) and ROBOT_CONSUMER_SOURCE (default:
 # robot_consumer beside CONSUMER_SOURCE; plantnbv::session and plantnbv::io only, a
-# 3-frame loop), and checks that what a robot links holds no simulator.
+# 3-frame loop), and checks that what a robot links holds no simulator. With PYTHON (the
+# interpreter the module was built for), imports the installed Python package in a clean
+# process and computes metrics with it.
 set -euo pipefail
 build=$1 consumer=$2 work=$3 cmake=$4
 robot_consumer=${5:-$(dirname "$consumer")/robot_consumer}
+python=${6:-}
 rm -rf "$work"
 "$cmake" --install "$build" --prefix "$work/prefix" >"$work.install.log" 2>&1 ||
   { cat "$work.install.log"; exit 1; }
@@ -52,4 +56,18 @@ for f in "$robot" "$lib/libplantnbv_session.so" "$lib/libplantnbv_io.so" \
     echo "$f loads VTK or libpcl_io" >&2; status=1
   fi
 done
+
+if [ -n "$python" ]; then
+  site="$work/prefix/lib/python3/dist-packages"
+  test -f "$site/plantnbv/_plantnbv.pyi"
+  # A fresh process with nothing of the build tree: only the installed package's path.
+  out=$(cd / && env -i PATH=/usr/bin:/bin PYTHONPATH="$site" "$python" -c '
+import numpy as np, plantnbv
+assert plantnbv.__file__.startswith("'"$site"'"), plantnbv.__file__
+m = plantnbv.metrics(np.zeros((2, 3)), np.full((2, 3), 0.001), rho=0.003)
+print("python f1=%g version=%s" % (m.f1, plantnbv.__version__))')
+  echo "$out"
+  [[ "$out" =~ ^python\ f1=1\ version=[0-9]+\.[0-9]+\.[0-9]+$ ]] ||
+    { echo "the installed Python package does not work" >&2; status=1; }
+fi
 exit $status
