@@ -114,6 +114,12 @@ std::vector<std::uint32_t> readIndexLike(const py::handle& values, const char* a
 
 } // namespace
 
+std::recursive_mutex& libraryMutex()
+{
+  static std::recursive_mutex mutex;
+  return mutex;
+}
+
 std::string badArgument(const char* argument, const std::string& expected,
                         const py::handle& value)
 {

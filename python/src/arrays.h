@@ -4,6 +4,7 @@
 // with the GIL held; callers release it afterwards for the long work.
 
 #include <cstdint>
+#include <mutex>
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <string>
@@ -64,6 +65,26 @@ py::array_t<T> columnArray(const std::vector<T>& values)
   std::copy(values.begin(), values.end(), out.mutable_data());
   return out;
 }
+
+/// The one lock of the library objects Python holds: sessions, maps, sensors, metrics
+/// evaluators, frames writers, and the plants and meshes that calls read with the GIL
+/// released. The C++ classes are not thread-safe, and a call that released the GIL must
+/// not meet another thread's call on the same object. Every call that releases the GIL
+/// and touches such an object holds this lock, and so does every call that changes what
+/// those calls read or reads what they change. Calls that work on objects of their own
+/// (metrics(), read_cloud(), a trial once its plant is copied) release the GIL without
+/// it and run in parallel. Recursive: a locked call may call another.
+std::recursive_mutex& libraryMutex();
+
+/// Releases the GIL, then takes libraryMutex(); gives it back before the GIL.
+class ReleasedAndLocked {
+  py::gil_scoped_release release_;
+  std::lock_guard<std::recursive_mutex> lock_{libraryMutex()};
+};
+/// libraryMutex() with the GIL held, for short calls that build Python results.
+class Locked {
+  std::lock_guard<std::recursive_mutex> lock_{libraryMutex()};
+};
 
 /// The message head "<argument>: expected <expected>, got <description of `value`>".
 std::string badArgument(const char* argument, const std::string& expected,

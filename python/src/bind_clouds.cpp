@@ -44,6 +44,13 @@ py::dict metricsDict(const MetricsResult& r)
       "reconstruction_points"_a = r.reconstruction_points, "valid"_a = r.valid);
 }
 
+CloudXYZConstPtr cloudOf(const py::handle& points, const char* argument)
+{
+  auto cloud = std::make_shared<CloudXYZ>();
+  readPoints(points, argument, *cloud);
+  return cloud;
+}
+
 /// ReconstructionMetrics with the reference's tree kept: many reconstructions against
 /// one ground truth.
 class MetricsEvaluator {
@@ -56,36 +63,34 @@ public:
   }
   void setReference(const py::handle& reference)
   {
-    auto cloud = std::make_shared<CloudXYZ>();
-    readPoints(reference, "reference", *cloud);
-    py::gil_scoped_release release;
+    const CloudXYZConstPtr cloud = cloudOf(reference, "reference");
+    ReleasedAndLocked lock;
     metrics_.setReference(cloud);
-  }
-  void setReconstruction(const py::handle& reconstruction)
-  {
-    auto cloud = std::make_shared<CloudXYZ>();
-    readPoints(reconstruction, "reconstruction", *cloud);
-    py::gil_scoped_release release;
-    metrics_.setReconstruction(cloud);
   }
   MetricsResult compute(const py::handle& reconstruction)
   {
-    setReconstruction(reconstruction);
-    py::gil_scoped_release release;
+    const CloudXYZConstPtr cloud = cloudOf(reconstruction, "reconstruction");
+    ReleasedAndLocked lock;
+    metrics_.setReconstruction(cloud);
     return metrics_.compute();
   }
   py::tuple distances(const py::handle& reconstruction)
   {
-    setReconstruction(reconstruction);
+    const CloudXYZConstPtr cloud = cloudOf(reconstruction, "reconstruction");
     std::vector<double> r_to_t, t_to_r;
     {
-      py::gil_scoped_release release;
+      ReleasedAndLocked lock;
+      metrics_.setReconstruction(cloud);
       metrics_.computeDistances(r_to_t, t_to_r);
     }
     return py::make_tuple(columnArray(r_to_t), columnArray(t_to_r));
   }
   double rho() const { return metrics_.getThreshold(); }
-  void setRho(double rho) { metrics_.setThreshold(rho); }
+  void setRho(double rho)
+  {
+    Locked lock;
+    metrics_.setThreshold(rho);
+  }
 
 private:
   ReconstructionMetrics metrics_;
@@ -148,7 +153,16 @@ void bindClouds(py::module_& m)
       "metrics",
       [](const py::handle& reference, const py::handle& reconstruction, double rho,
          int threads) {
-        return MetricsEvaluator(reference, rho, threads).compute(reconstruction);
+        // Objects of its own: runs beside other threads' calls.
+        const CloudXYZConstPtr t = cloudOf(reference, "reference");
+        const CloudXYZConstPtr r = cloudOf(reconstruction, "reconstruction");
+        py::gil_scoped_release release;
+        ReconstructionMetrics metrics;
+        metrics.setNumberOfThreads(threads);
+        metrics.setThreshold(rho);
+        metrics.setReference(t);
+        metrics.setReconstruction(r);
+        return metrics.compute();
       },
       "reference"_a, "reconstruction"_a, "rho"_a = 0.003, "threads"_a = 0,
       "Chamfer distance and precision / recall / F1 at rho (metres, strict <) of the "
@@ -230,7 +244,7 @@ void bindClouds(py::module_& m)
         MeshSampler sampler;
         CloudXYZL cloud;
         {
-          py::gil_scoped_release release;
+          ReleasedAndLocked lock; // reads the mesh
           sampler.setInputMesh(mesh);
           sampler.setNumberOfPoints(n);
           sampler.setSeed(seed);
@@ -313,7 +327,7 @@ void bindClouds(py::module_& m)
   m.def(
       "write_mesh",
       [](const Path& path, const TriangleMesh& mesh) {
-        py::gil_scoped_release release;
+        ReleasedAndLocked lock; // reads the mesh
         io::saveMeshPly(path.string(), mesh);
       },
       "path"_a, "mesh"_a, "Writes a binary PLY with a per-face label.");
@@ -434,7 +448,7 @@ void bindClouds(py::module_& m)
              double stamp_s) {
             const DepthImage d = readDepth(depth, "depth");
             const Pose pose = readPose(T_W_O, "T_W_O");
-            py::gil_scoped_release release;
+            ReleasedAndLocked lock;
             w.append(d, pose, stamp_s);
           },
           "depth"_a, "T_W_O"_a, "stamp_s"_a,

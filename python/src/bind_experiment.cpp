@@ -118,19 +118,27 @@ TrialRun runTrial(const scenario::PlacedPlant& placed, const std::string& planne
 {
   scenario::TrialOverrides overrides = o;
   overrides.planner = planner;
-  const TrialConfig config = scenario::makeTrialConfig(overrides, placed);
+  TrialConfig config;
+  {
+    Locked lock; // reads the plant (a model's height)
+    config = scenario::makeTrialConfig(overrides, placed);
+  }
   const scenario::Attention attention = scenario::Attention::parse(attention_name);
   TrialRun run;
   CloudXYZ occupied;
   {
     py::gil_scoped_release release;
-    const Roi roi = scenario::attentionRoi(placed, attention);
     Trial trial(config);
-    const std::vector<EvaluationLevel> levels = scenario::evaluationLevels(placed);
-    scenario::setUpTrial(placed, roi, levels, trial);
     std::vector<std::string> names;
-    for (const EvaluationLevel& l : levels)
-      names.push_back(l.name);
+    {
+      // The trial copies the plant; then it runs on objects of its own, unlocked.
+      std::lock_guard<std::recursive_mutex> lock(libraryMutex());
+      const std::vector<EvaluationLevel> levels = scenario::evaluationLevels(placed);
+      scenario::setUpTrial(placed, scenario::attentionRoi(placed, attention), levels,
+                           trial);
+      for (const EvaluationLevel& l : levels)
+        names.push_back(l.name);
+    }
     trial.setStepCallback([&](const TrialStep& s) {
       checkSignals();
       if (!progress.is_none()) {

@@ -246,7 +246,9 @@ void bindGeometry(py::module_& m)
       .def_property(
           "labels", [](const TriangleMesh& mesh) { return labelsArray(mesh.labels); },
           [](TriangleMesh& mesh, const py::handle& labels) {
-            mesh.labels = readPartLabels(labels, "labels", mesh.size());
+            std::vector<PartLabel> l = readPartLabels(labels, "labels", mesh.size());
+            Locked lock;
+            mesh.labels = std::move(l);
           },
           "(F,) uint32 part labels, empty when the mesh has none.")
       .def_property_readonly(

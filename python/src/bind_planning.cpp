@@ -41,7 +41,18 @@ void applyKeywords(py::object config, const py::kwargs& kwargs, const char* who)
       throw py::type_error(std::string(who) + ": unknown argument '" + key +
                            "' (expected " + known + ")");
     }
-    config.attr(key.c_str()) = item.second;
+    try {
+      config.attr(key.c_str()) = item.second;
+    } catch (py::error_already_set& e) {
+      if (!e.matches(PyExc_TypeError))
+        throw;
+      const py::object now = config.attr(key.c_str());
+      throw py::type_error(
+          std::string(who) + ": " + key + ": expected " +
+          py::str(py::type::handle_of(now).attr("__name__")).cast<std::string>() +
+          ", got " +
+          py::str(py::type::handle_of(item.second).attr("__name__")).cast<std::string>());
+    }
   }
 }
 
@@ -60,6 +71,7 @@ py::array_t<T> perPoint(const py::handle& points, F&& f)
   const std::vector<Eigen::Vector3f> p = readPointVector(points, "points");
   py::array_t<T> out(py::ssize_t(p.size()));
   T* o = out.mutable_data();
+  Locked lock;
   for (const Eigen::Vector3f& q : p)
     *o++ = f(q.cast<double>());
   return out;
@@ -70,9 +82,10 @@ void integrateDepth(OccupancyMap& map, const py::handle& depth,
 {
   const DepthImage d = readDepth(depth, "depth");
   const Pose pose = readPose(T_W_O, "T_W_O");
-  py::gil_scoped_release release;
+  const CameraIntrinsics camera = intrinsics; // Python may change its own meanwhile
+  ReleasedAndLocked lock;
   CloudXYZ cloud;
-  depthToCloud(d, intrinsics, pose, cloud);
+  depthToCloud(d, camera, pose, cloud);
   map.insert(cloud, pose.position);
 }
 
@@ -105,7 +118,10 @@ void bindMap(py::module_& m)
           "resolution_m",
           [](const OccupancyMap& m) { return m.getConfig().resolution_m; })
       .def_property("threads", &OccupancyMap::getNumberOfThreads,
-                    &OccupancyMap::setNumberOfThreads)
+                    [](OccupancyMap& map, int threads) {
+                      Locked lock;
+                      map.setNumberOfThreads(threads);
+                    })
       .def("integrate", &integrateDepth, "depth"_a, "intrinsics"_a, "T_W_O"_a,
            "Integrates an (H, W) depth image (metres; NaN or 0: no return) seen from the "
            "optical pose T_W_O (z forward, x right, y down).")
@@ -115,13 +131,14 @@ void bindMap(py::module_& m)
             CloudXYZ cloud;
             readPoints(points, "points", cloud);
             const Eigen::Vector3d o = readVector3(origin, "origin");
-            py::gil_scoped_release release;
+            ReleasedAndLocked lock;
             map.insert(cloud, o);
           },
           "points"_a, "origin"_a,
           "Integrates (N, 3) world points seen from the sensor origin (3,).")
       .def_property_readonly("last_insert_stats",
                              [](const OccupancyMap& map) {
+                               Locked lock;
                                return insertStatsDict(map.getLastInsertStats());
                              })
       .def(
@@ -129,7 +146,7 @@ void bindMap(py::module_& m)
           [](const OccupancyMap& map) {
             CloudXYZ cloud;
             {
-              py::gil_scoped_release release;
+              ReleasedAndLocked lock;
               map.getOccupiedVoxelCentres(cloud);
             }
             return pointsArray(cloud);
@@ -154,16 +171,28 @@ void bindMap(py::module_& m)
       .def(
           "counts",
           [](const OccupancyMap& map) {
-            const OccupancyMap::VoxelCounts c = map.countVoxels();
+            OccupancyMap::VoxelCounts c;
+            {
+              ReleasedAndLocked lock;
+              c = map.countVoxels();
+            }
             return py::dict("occupied"_a = c.occupied, "free"_a = c.free);
           },
           "Voxel counts at the finest resolution.")
-      .def("clear", &OccupancyMap::clear)
-      .def_property_readonly("revision", &OccupancyMap::revision)
+      .def("clear",
+           [](OccupancyMap& map) {
+             Locked lock;
+             map.clear();
+           })
+      .def_property_readonly("revision",
+                             [](const OccupancyMap& map) {
+                               Locked lock;
+                               return map.revision();
+                             })
       .def(
           "write",
           [](const OccupancyMap& map, const Path& path) {
-            py::gil_scoped_release release;
+            ReleasedAndLocked lock;
             map.write(path.string());
           },
           "path"_a,
@@ -181,6 +210,7 @@ void bindMap(py::module_& m)
           "A map from an OctoMap file (.ot, or .bt with no uncertainty left); the "
           "resolution is the file's, other parameters MapConfig's or the keywords'.")
       .def("__repr__", [](const OccupancyMap& map) {
+        Locked lock;
         const OccupancyMap::VoxelCounts c = map.countVoxels();
         return "OccupancyMap(resolution_m=" +
                std::to_string(map.getConfig().resolution_m) + ", " +
@@ -333,7 +363,10 @@ void bindPlanners(py::module_& m)
              return p;
            }),
            "pattern"_a = 1)
-      .def("reset", &PredefinedPlanner::reset);
+      .def("reset", [](PredefinedPlanner& p) {
+        Locked lock;
+        p.reset();
+      });
   py::class_<RandomPlanner, ViewPlanner, std::shared_ptr<RandomPlanner>>(
       m, "RandomPlanner", "The random baseline: one of the freshly drawn candidates.")
       .def(py::init([] { return std::make_shared<RandomPlanner>(); }));
@@ -422,11 +455,21 @@ void bindSession(py::module_& m)
       .def_readwrite("threads", &Config::threads)
       .def("validate", &Config::validate);
 
+  const auto setCamera = [](ActiveVisionSession& s, const CameraIntrinsics& camera) {
+    Locked lock;
+    s.setCamera(camera);
+  };
+  const auto setRoi = [](ActiveVisionSession& s, const py::object& roi) {
+    Roi r = roi.is_none() ? Roi() : roi.cast<Roi>();
+    Locked lock;
+    s.setRoi(r);
+  };
   py::class_<ActiveVisionSession>(
       m, "Session",
       "The active-vision loop of a robot: integrate depth frames with their poses, set "
       "the ROI, ask for the next-best view. Keyword arguments are SessionConfig's "
-      "fields (or config=SessionConfig()). Not for use from several threads at once.")
+      "fields (or config=SessionConfig()). Defaults: the paper's map, sector and NBV "
+      "planner, the L515 at 640 x 480, no ROI.")
       .def(py::init([](std::optional<Config> config, const py::kwargs& kwargs) {
              py::object c = py::cast(config ? *config : Config());
              applyKeywords(c, kwargs, "Session");
@@ -434,16 +477,19 @@ void bindSession(py::module_& m)
            }),
            "config"_a = py::none())
       .def_property_readonly("config", &ActiveVisionSession::getConfig)
-      .def_property("camera", &ActiveVisionSession::getCamera,
-                    &ActiveVisionSession::setCamera,
+      .def_property("camera", &ActiveVisionSession::getCamera, setCamera,
                     "The camera whose frusta the candidates have.")
-      .def_property(
-          "roi", &ActiveVisionSession::getRoi,
-          [](ActiveVisionSession& s, const py::object& roi) {
-            s.setRoi(roi.is_none() ? Roi() : roi.cast<Roi>());
+      .def("set_camera", setCamera, "intrinsics"_a)
+      .def_property("roi", &ActiveVisionSession::getRoi, setRoi,
+                    "What the gain counts; None or an empty Roi: every voxel.")
+      .def("set_roi", setRoi, "roi"_a, "As the roi property; may change at any time.")
+      .def(
+          "set_planner",
+          [](ActiveVisionSession& s, ViewPlanner::Ptr planner) {
+            Locked lock;
+            s.setPlanner(std::move(planner));
           },
-          "What the gain counts; None or an empty Roi: every voxel.")
-      .def("set_planner", &ActiveVisionSession::setPlanner, "planner"_a)
+          "planner"_a, "NbvPlanner (the default), PredefinedPlanner or RandomPlanner.")
       .def(
           "set_candidates",
           [](ActiveVisionSession& s, const py::handle& poses, const std::string& frame) {
@@ -454,19 +500,26 @@ void bindSession(py::module_& m)
             else if (frame != "body")
               throw InvalidArgumentError("frame: expected 'body' or 'optical', got '" +
                                          frame + "'");
+            Locked lock;
             s.setCandidateSampler(
                 std::make_shared<ViewpointListSampler>(std::move(views)));
           },
           "poses"_a, "frame"_a = "body",
           "Fixed candidates (e.g. a robot's reachable poses), (K, 7) or (K, 4, 4), in "
-          "the "
-          "body or the optical frame, instead of the sector's draws.")
-      .def("set_candidate_sampler", &ActiveVisionSession::setCandidateSampler,
-           "sampler"_a)
+          "the body or the optical frame, instead of the sector's draws.")
+      .def(
+          "set_candidate_sampler",
+          [](ActiveVisionSession& s, ViewpointSampler::ConstPtr sampler) {
+            Locked lock;
+            s.setCandidateSampler(std::move(sampler));
+          },
+          "sampler"_a)
       .def(
           "set_current_view",
           [](ActiveVisionSession& s, const py::handle& T_W_C) {
-            s.setCurrentView(readPose(T_W_C, "T_W_C"));
+            const Pose pose = readPose(T_W_C, "T_W_C");
+            Locked lock;
+            s.setCurrentView(pose);
           },
           "T_W_C"_a, "The camera's body pose now (for a travel cost).")
       .def(
@@ -475,8 +528,9 @@ void bindSession(py::module_& m)
              const CameraIntrinsics& intrinsics, const py::handle& T_W_O) {
             const DepthImage d = readDepth(depth, "depth");
             const Pose pose = readPose(T_W_O, "T_W_O");
-            py::gil_scoped_release release;
-            s.integrate(d, intrinsics, pose);
+            const CameraIntrinsics camera = intrinsics;
+            ReleasedAndLocked lock;
+            s.integrate(d, camera, pose);
           },
           "depth"_a, "intrinsics"_a, "T_W_O"_a,
           "Integrates an (H, W) depth image (metres) taken at optical pose T_W_O.")
@@ -486,14 +540,14 @@ void bindSession(py::module_& m)
             CloudXYZ cloud;
             readPoints(points, "points", cloud);
             const Eigen::Vector3d o = readVector3(origin, "origin");
-            py::gil_scoped_release release;
+            ReleasedAndLocked lock;
             s.integrate(cloud, o);
           },
           "points"_a, "origin"_a, "Integrates (N, 3) world points seen from `origin`.")
       .def(
           "integrate_frames",
           [](ActiveVisionSession& s, const io::FramesFolder& frames) {
-            py::gil_scoped_release release;
+            ReleasedAndLocked lock;
             DepthImage depth;
             for (std::size_t i = 0; i < frames.frames().size(); ++i) {
               frames.loadDepth(i, depth);
@@ -507,17 +561,18 @@ void bindSession(py::module_& m)
           [](ActiveVisionSession& s) {
             NextBestView next;
             {
-              py::gil_scoped_release release;
+              ReleasedAndLocked lock;
               s.nextBestView(next);
             }
             return PlanningStep(std::move(next));
           },
           "One planning step on the current map: the ranked candidates.")
-      .def_property_readonly("map", &ActiveVisionSession::getMap)
+      .def_property_readonly("map", &ActiveVisionSession::getMap,
+                             "The map (shared: changes as the session integrates).")
       .def(
           "read_map",
           [](ActiveVisionSession& s, const Path& path) {
-            py::gil_scoped_release release;
+            ReleasedAndLocked lock;
             return s.readMap(path.string());
           },
           "path"_a,
@@ -525,7 +580,7 @@ void bindSession(py::module_& m)
       .def(
           "write_map",
           [](const ActiveVisionSession& s, const Path& path) {
-            py::gil_scoped_release release;
+            ReleasedAndLocked lock;
             s.writeMap(path.string());
           },
           "path"_a, "Writes the map, .ot (log-odds) or .bt, by extension.");

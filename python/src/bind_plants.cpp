@@ -87,7 +87,12 @@ void bindPlant(py::module_& m)
       "A plant with ground truth: its mesh (a part label per triangle) or scanned "
       "points, "
       "its anatomy, and the pose it is in (world frame once placed).")
-      .def_readwrite("name", &Plant::name)
+      .def_property(
+          "name", [](const Plant& p) { return p.name; },
+          [](Plant& p, std::string name) {
+            Locked lock;
+            p.name = std::move(name);
+          })
       .def_property_readonly(
           "mesh", [](const Plant& p) { return std::make_shared<TriangleMesh>(p.mesh); },
           "A copy of the mesh (empty for a scan).")
@@ -108,7 +113,9 @@ void bindPlant(py::module_& m)
       .def(
           "place",
           [](Plant& p, const py::handle& base, double yaw_deg) {
-            posePlant(p, readVector3(base, "base"), yaw_deg * M_PI / 180.0);
+            const Eigen::Vector3d b = readVector3(base, "base");
+            Locked lock;
+            posePlant(p, b, yaw_deg * M_PI / 180.0);
           },
           "base"_a = std::vector<double>{1.0, 0.0, 0.8}, "yaw_deg"_a = 0.0,
           "Puts the stem base at `base` (world, metres) turned by yaw_deg about the stem "
@@ -260,14 +267,17 @@ void bindSensor(py::module_& m)
       .def(py::init<const CameraIntrinsics&>(),
            "intrinsics"_a = CameraIntrinsics::l515(L515Mode::vga_640x480))
       .def_property("intrinsics", &SimulatedDepthSensor::getIntrinsics,
-                    &SimulatedDepthSensor::setIntrinsics)
+                    [](SimulatedDepthSensor& s, const CameraIntrinsics& c) {
+                      Locked lock;
+                      s.setIntrinsics(c);
+                    })
       .def(
           "set_plant",
           [](SimulatedDepthSensor& s, const Plant& plant, bool floor, bool support) {
             PlantSceneConfig config;
             config.floor = floor;
             config.support = support;
-            py::gil_scoped_release release;
+            ReleasedAndLocked lock; // reads the plant, changes the sensor
             s.setScene(makePlantScene(plant, config));
           },
           "plant"_a, "floor"_a = true, "support"_a = true,
@@ -276,6 +286,7 @@ void bindSensor(py::module_& m)
       .def(
           "set_noise",
           [](SimulatedDepthSensor& s, bool enabled, std::uint64_t seed) {
+            Locked lock;
             NoiseConfig noise;
             noise.enabled = enabled;
             noise.seed = seed;
@@ -295,7 +306,7 @@ void bindSensor(py::module_& m)
             CloudXYZL cloud;
             DepthImage depth;
             {
-              py::gil_scoped_release release;
+              ReleasedAndLocked lock;
               s.capture(body, cloud, &depth);
             }
             return captureDict(cloud, depth, body);

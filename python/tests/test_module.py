@@ -47,3 +47,39 @@ def test_long_calls_release_the_gil(placed):
     worker.join()
     # A call that held the GIL would leave this loop no chance to run meanwhile.
     assert len(ticks) > 20, (len(ticks), time.perf_counter() - start)
+
+
+def test_one_session_used_from_two_threads_waits_instead_of_racing(sensor, camera):
+    frames = [sensor.capture(T_W_C=pose) for pose in
+              ([0.646, 0.353, 1.383, 0, 0, -0.383, 0.924], [0.62, -0.35, 1.2, 0, 0, 0.3827, 0.9239])]
+    session = pn.Session()
+    session.camera = camera
+    errors = []
+
+    def integrate():
+        try:
+            for _ in range(3):
+                for f in frames:
+                    session.integrate(f["depth"], camera, f["T_W_O"])
+        except Exception as e:  # noqa: BLE001 (reported below)
+            errors.append(e)
+
+    worker = threading.Thread(target=integrate)
+    worker.start()
+    gains = []
+    while worker.is_alive():
+        gains.append(session.next_best_view().gain)
+        session.map.counts()
+    worker.join()
+    assert errors == [] and gains
+    alone = pn.Session()
+    for _ in range(3):
+        for f in frames:
+            alone.integrate(f["depth"], camera, f["T_W_O"])
+    assert alone.map.counts() == session.map.counts()
+
+
+def test_keyword_arguments_of_the_wrong_type_are_named():
+    import pytest
+    with pytest.raises(TypeError, match="OccupancyMap: resolution_m: expected float, got str"):
+        pn.OccupancyMap(resolution_m="fine")
