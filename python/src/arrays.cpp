@@ -281,18 +281,6 @@ Eigen::Vector3d readVector3(const py::handle& v, const char* argument)
   return out;
 }
 
-double readFinite(const py::handle& x, const char* argument)
-{
-  if (!py::isinstance<py::float_>(x) && !py::isinstance<py::int_>(x) &&
-      !py::hasattr(x, "__float__"))
-    throw py::type_error(badArgument(argument, "a number", x));
-  const double value = x.cast<double>();
-  if (!std::isfinite(value))
-    throw py::value_error(std::string(argument) + ": expected a finite number, got " +
-                          std::to_string(value));
-  return value;
-}
-
 DepthImage readDepth(const py::handle& depth, const char* argument)
 {
   const char* expected = "an (H, W) depth image in metres, float32 or float64";
@@ -418,15 +406,6 @@ py::array_t<double> vectorArray(const Eigen::Vector3d& v)
   py::array_t<double> out(3);
   for (int k = 0; k < 3; ++k)
     out.mutable_at(k) = v[k];
-  return out;
-}
-
-py::array_t<double> vectorsArray(const std::vector<Eigen::Vector3d>& v)
-{
-  py::array_t<double> out({py::ssize_t(v.size()), py::ssize_t(3)});
-  for (std::size_t i = 0; i < v.size(); ++i)
-    for (int k = 0; k < 3; ++k)
-      out.mutable_at(py::ssize_t(i), k) = v[i][k];
   return out;
 }
 

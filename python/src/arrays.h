@@ -41,8 +41,6 @@ Pose readPose(const py::handle& pose, const char* argument);
 /// Poses: (K, 7) or (K, 4, 4).
 std::vector<Pose> readPoses(const py::handle& poses, const char* argument);
 Eigen::Vector3d readVector3(const py::handle& v, const char* argument);
-/// A finite number. \throws py::type_error / py::value_error naming the argument.
-double readFinite(const py::handle& x, const char* argument);
 /// An (H, W) depth image in metres, float32 or float64; NaN or 0 = no return.
 DepthImage readDepth(const py::handle& depth, const char* argument);
 
@@ -57,7 +55,6 @@ py::array_t<double> poseArray(const Pose& pose);
 py::array_t<double> poseArray(const std::vector<Pose>& poses); ///< (K, 7)
 py::array_t<double> poseMatrix(const Pose& pose);              ///< 4x4
 py::array_t<double> vectorArray(const Eigen::Vector3d& v);
-py::array_t<double> vectorsArray(const std::vector<Eigen::Vector3d>& v); ///< (K, 3)
 template <typename T>
 py::array_t<T> columnArray(const std::vector<T>& values)
 {
