@@ -292,8 +292,10 @@ void addReconstructCommand(CLI::App& app)
   addPlantOptions(*cmd, o->plant, "--plant");
   cmd->add_option("--config", o->trial.config_file,
                   "Trial config (YAML, e.g. data/paper.yaml); options below override it");
-  cmd->add_option("--planner", o->trial.planner, "nbv, predefined or random (default nbv)");
-  cmd->add_option("--pattern", o->trial.pattern, "Pattern of the predefined planner, 1-4");
+  cmd->add_option("--planner", o->trial.planner,
+                  "nbv, predefined or random (default nbv)");
+  cmd->add_option("--pattern", o->trial.pattern,
+                  "Pattern of the predefined planner, 1-4");
   cmd->add_option(
          "--attention", o->attention,
          "ROI of the NBV planner: whole_plant, main_stem, leaf_nodes, fruit ('-' "
@@ -302,7 +304,8 @@ void addReconstructCommand(CLI::App& app)
   cmd->add_option("--views", o->trial.views, "View budget, v0 included (default 10)");
   cmd->add_option("--candidates", o->trial.candidates,
                   "Candidates per step: 9, 27 (default) or 45 (1, 3, 5 per grid cell)");
-  cmd->add_option("--resolution", o->trial.resolution_m, "Map voxel size in metres (0.003)");
+  cmd->add_option("--resolution", o->trial.resolution_m,
+                  "Map voxel size in metres (0.003)");
   cmd->add_option("--sector-height", o->trial.sector_height_m,
                   "Height of the cylindrical sector in metres (0.7; a loaded model: "
                   "its height)");

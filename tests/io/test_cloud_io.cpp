@@ -15,6 +15,7 @@
 
 using plantnbv::CloudXYZ;
 using plantnbv::CloudXYZL;
+using plantnbv::FileNotFoundError;
 using plantnbv::FormatError;
 using plantnbv::IoError;
 using plantnbv::io::loadCloud;
@@ -177,7 +178,7 @@ TEST(CloudIo, MissingFileIsAnIoErrorNamingThePath)
   const std::string msg = thrownMessage<IoError>([&] { loadCloud(path, cloud); });
   EXPECT_NE(msg.find(path), std::string::npos) << msg;
   CloudXYZL labelled;
-  EXPECT_THROW(loadCloud(dir.file("nowhere.ply"), labelled), IoError);
+  EXPECT_THROW(loadCloud(dir.file("nowhere.ply"), labelled), FileNotFoundError);
 }
 
 TEST(CloudIo, GarbageIsAFormatError)

@@ -20,6 +20,7 @@
 #include "io_test_util.h"
 
 using plantnbv::DepthImage;
+using plantnbv::FileNotFoundError;
 using plantnbv::FormatError;
 using plantnbv::InvalidArgumentError;
 using plantnbv::IoError;
@@ -550,11 +551,16 @@ TEST(FramesFolderAssociation, ReadsPosesTxtWithoutGroundtruthTxt)
 TEST(FramesFolderErrors, MissingFolderAndEmptyFolder)
 {
   TempDir dir;
-  std::string msg = thrownMessage<IoError>([&] { FramesFolder(dir.file("nothing")); });
+  std::string msg =
+      thrownMessage<FileNotFoundError>([&] { FramesFolder(dir.file("nothing")); });
   EXPECT_NE(msg.find(dir.file("nothing")), std::string::npos) << msg;
-  msg = thrownMessage<IoError>([&] { FramesFolder(dir.file("")); });
+  msg = thrownMessage<FileNotFoundError>([&] { FramesFolder(dir.file("")); });
   EXPECT_NE(msg.find(dir.file("camera.yaml") + "': no such file"), std::string::npos)
       << msg;
+  // A file where the folder should be exists: an IoError, not "no such folder".
+  dir.write("a_file", "x");
+  msg = thrownMessage<IoError>([&] { FramesFolder(dir.file("a_file")); });
+  EXPECT_NE(msg.find("is not a folder"), std::string::npos) << msg;
 }
 
 TEST(FramesFolderErrors, MissingCameraYamlOrDepthTxt)
@@ -562,12 +568,12 @@ TEST(FramesFolderErrors, MissingCameraYamlOrDepthTxt)
   TempDir dir;
   writeFolder(dir);
   std::filesystem::remove(dir.file("camera.yaml"));
-  std::string msg = thrownMessage<IoError>([&] { FramesFolder(dir.file("")); });
+  std::string msg = thrownMessage<FileNotFoundError>([&] { FramesFolder(dir.file("")); });
   EXPECT_NE(msg.find(dir.file("camera.yaml") + "': no such file"), std::string::npos)
       << msg;
   writeFolder(dir);
   std::filesystem::remove(dir.file("depth.txt"));
-  msg = thrownMessage<IoError>([&] { FramesFolder(dir.file("")); });
+  msg = thrownMessage<FileNotFoundError>([&] { FramesFolder(dir.file("")); });
   EXPECT_NE(msg.find(dir.file("depth.txt") + "': no such file"), std::string::npos)
       << msg;
 }

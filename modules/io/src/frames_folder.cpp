@@ -308,14 +308,19 @@ FramesFolder::FramesFolder(const std::string& folder, const FramesFolderOptions&
     : folder_(folder)
 {
   std::error_code ec;
-  if (!fs::is_directory(folder, ec))
-    throw FileNotFoundError(inQuotes(folder) + ": no such folder (a frames folder: camera.yaml, "
+  if (fs::exists(folder, ec) && !fs::is_directory(folder, ec))
+    throw IoError(inQuotes(folder) + ": is not a folder (a frames folder: camera.yaml, "
                                      "depth.txt, groundtruth.txt, depth/)");
+  if (!fs::is_directory(folder, ec))
+    throw FileNotFoundError(inQuotes(folder) +
+                            ": no such folder (a frames folder: camera.yaml, "
+                            "depth.txt, groundtruth.txt, depth/)");
   const fs::path dir(folder);
   const std::string camera_path = (dir / "camera.yaml").string();
   if (!fs::exists(camera_path, ec))
-    throw FileNotFoundError(inQuotes(camera_path) + ": no such file (the camera's calibration, ROS "
-                                          "camera_info YAML)");
+    throw FileNotFoundError(inQuotes(camera_path) +
+                            ": no such file (the camera's calibration, ROS "
+                            "camera_info YAML)");
   camera_ = readCameraInfo(camera_path);
   if (options.depth_scale != 0.0) {
     if (!(options.depth_scale > 0.0) || !std::isfinite(options.depth_scale))
@@ -326,14 +331,15 @@ FramesFolder::FramesFolder(const std::string& folder, const FramesFolderOptions&
   const std::string list_path = (dir / "depth.txt").string();
   if (!fs::exists(list_path, ec))
     throw FileNotFoundError(inQuotes(list_path) +
-                  ": no such file (\"timestamp filename\" per frame)");
+                            ": no such file (\"timestamp filename\" per frame)");
   std::string poses_path = (dir / "groundtruth.txt").string();
   if (!fs::exists(poses_path, ec))
     poses_path = (dir / "poses.txt").string();
   if (!fs::exists(poses_path, ec))
-    throw FileNotFoundError(inQuotes((dir / "groundtruth.txt").string()) +
-                  ": no such file, nor poses.txt (\"timestamp tx ty tz qx qy qz qw\" per "
-                  "pose)");
+    throw FileNotFoundError(
+        inQuotes((dir / "groundtruth.txt").string()) +
+        ": no such file, nor poses.txt (\"timestamp tx ty tz qx qy qz qw\" per "
+        "pose)");
   const std::vector<StampedFile> files = readTumFileList(list_path);
   std::vector<StampedPose> poses = readTumTrajectory(poses_path);
   if (files.empty())
