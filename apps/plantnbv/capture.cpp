@@ -24,6 +24,7 @@
 #include <plantnbv/octree/occupancy_map.h>
 #include <plantnbv/sensor/simulated_depth_sensor.h>
 
+#include "cli_checks.h"
 #include "commands.h"
 #include "frames_out.h"
 #include "map_file.h"
@@ -178,6 +179,7 @@ void addCaptureCommand(CLI::App& app)
       ->capture_default_str();
   cmd->add_flag("--noise", o->noise, "L515-like depth noise (off: the paper's sensor)");
   cmd->add_option("--noise-seed", o->noise_seed, "Seed of the noise")
+      ->check(unsignedInteger())
       ->capture_default_str()
       ->needs("--noise");
   cmd->add_flag("--no-background", o->no_background,

@@ -16,6 +16,7 @@
 #include <plantnbv/io/roi_io.h>
 #include <plantnbv/metrics/reconstruction_metrics.h>
 
+#include "cli_checks.h"
 #include "commands.h"
 #include <plantnbv/scenario/geometry_input.h>
 
@@ -157,8 +158,11 @@ void addEvalCommand(CLI::App& app)
                       "default: the resolution");
   cmd->add_option("--roi", o->roi, "ROI file (YAML boxes): crop both clouds to it first");
   cmd->add_option("--mesh-points", o->mesh_points,
-                  "Surface samples per mesh; default 8 per resolution^2 of surface");
-  cmd->add_option("--seed", o->seed, "Sampling seed for meshes")->capture_default_str();
+                  "Surface samples per mesh; default 8 per resolution^2 of surface")
+      ->check(unsignedInteger());
+  cmd->add_option("--seed", o->seed, "Sampling seed for meshes")
+      ->check(unsignedInteger())
+      ->capture_default_str();
   cmd->add_flag("--json", o->json, "Print one JSON object instead of text");
   cmd->callback([o, rho]() {
     o->rho_given = rho->count() > 0;

@@ -26,6 +26,7 @@
 #include <plantnbv/scenario/trial_setup.h>
 #include <plantnbv/session/active_vision_session.h>
 
+#include "cli_checks.h"
 #include "commands.h"
 #include "map_file.h"
 
@@ -307,7 +308,8 @@ void addPlanCommand(CLI::App& app)
                   "The candidates' camera: camera.yaml, l515, l515-640, l515-320 or "
                   "WxH:fx,fy,cx,cy")
       ->capture_default_str();
-  cmd->add_option("--seed", o->seed, "Seed of the candidates' draw (default 0)");
+  cmd->add_option("--seed", o->seed, "Seed of the candidates' draw (default 0)")
+      ->check(unsignedInteger());
   cmd->add_option("--threads", o->threads, "Threads (default: all cores)");
   cmd->add_flag("--json", o->json, "One JSON object: best, candidates, timings");
   cmd->add_flag("--pose-only", o->pose_only,

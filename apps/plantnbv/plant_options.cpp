@@ -4,6 +4,8 @@
 
 #include <plantnbv/common/error.h>
 
+#include "cli_checks.h"
+
 namespace plantnbv {
 namespace app {
 
@@ -12,7 +14,8 @@ void addPlantOptions(CLI::App& cmd, PlantOptions& o, const std::string& seed_fla
   o.seed_flag = seed_flag;
   scenario::PlantSource& s = o.source;
   auto* seed = cmd.add_option(
-      seed_flag, s.seed, "Generate a tomato plant from this seed (0-9: the default set)");
+      seed_flag, s.seed, "Generate a tomato plant from this seed (0-9: the default set)")
+      ->check(unsignedInteger());
   auto* model = cmd.add_option("--model", s.model,
                                "Load a plant instead: a mesh (.dae .obj .ply .stl .wrl) "
                                "or a scanned cloud (.pcd .ply)");

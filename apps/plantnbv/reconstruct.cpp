@@ -26,6 +26,7 @@
 #include <plantnbv/viz/palette.h>
 #include <plantnbv/viz/snapshot.h>
 
+#include "cli_checks.h"
 #include "commands.h"
 #include "frames_out.h"
 #include "plant_options.h"
@@ -309,7 +310,8 @@ void addReconstructCommand(CLI::App& app)
   cmd->add_option("--sector-height", o->trial.sector_height_m,
                   "Height of the cylindrical sector in metres (0.7; a loaded model: "
                   "its height)");
-  cmd->add_option("--seed", o->trial.seed, "Seed of the trial (default 0)");
+  cmd->add_option("--seed", o->trial.seed, "Seed of the trial (default 0)")
+      ->check(unsignedInteger());
   cmd->add_option("--threads", o->trial.threads, "Threads (default: all cores)");
   cmd->add_option("-o,--output", o->output_dir, "Output directory")->required();
   cmd->add_option(

@@ -16,6 +16,7 @@
 #include <plantnbv/io/mesh_io.h>
 #include <plantnbv/sampling/mesh_sampler.h>
 
+#include "cli_checks.h"
 #include "commands.h"
 
 namespace plantnbv {
@@ -109,6 +110,7 @@ void addSampleCommand(CLI::App& app)
       "sample", "Sample points uniformly on a mesh surface (area-weighted, seeded)");
   cmd->add_option("--mesh", o->mesh, "Mesh file (.ply .obj .stl .dae .wrl)")->required();
   cmd->add_option("--points", o->points, "Number of surface samples")
+      ->check(unsignedInteger())
       ->capture_default_str();
   cmd->add_option("--voxel", o->voxel,
                   "Voxelize at this size in metres (centroid per voxel); 0 = off")
@@ -116,7 +118,9 @@ void addSampleCommand(CLI::App& app)
   cmd->add_option("--noise", o->noise,
                   "Gaussian noise sigma in metres added to each coordinate; 0 = off")
       ->capture_default_str();
-  cmd->add_option("--seed", o->seed, "Random seed")->capture_default_str();
+  cmd->add_option("--seed", o->seed, "Random seed")
+      ->check(unsignedInteger())
+      ->capture_default_str();
   cmd->add_flag("--labels", o->labels, "Write part labels (pcl::PointXYZL)");
   cmd->add_option("-o,--output", o->output, "Output cloud (.pcd or .ply)")->required();
   cmd->callback([o]() { runSample(*o); });

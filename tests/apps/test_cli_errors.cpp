@@ -68,6 +68,16 @@ const std::vector<BadCall> kBadCalls = {
     {"plant --model {d}/nothing.dae -o {d}/x", 1, "nothing.dae"},
     {"plant -o {d}/x", 1, "--seed"},
     {"plant --seed 1 --base 1,2 -o {d}/x", 1, "--base"},
+    // unsigned options: no wrapping of negatives, no saturation past 2^64 - 1
+    {"plant --seed -5 -o {d}/x", 2, "--seed: expected a whole number from 0 to"},
+    {"plant --seed 18446744073709551616 -o {d}/x", 2, "got '18446744073709551616'"},
+    {"plant --seed 0x10 -o {d}/x", 2, "--seed"},
+    {"capture --plant 1 --noise-seed -1 -o {d}/v.pcd", 2, "--noise-seed"},
+    {"reconstruct --plant 1 --seed -3 -o {d}/x", 2, "--seed"},
+    {"sample --mesh {f}/plant_like.ply --points -100 -o {d}/o.pcd", 2, "--points"},
+    {"eval --reference {f}/plant_like.ply --reconstruction {f}/plant_like.ply "
+     "--mesh-points -1", 2, "--mesh-points"},
+    {"plan --map {d}/m.ot --seed 99999999999999999999", 2, "--seed"},
     // capture
     {"capture -o {d}/v.pcd", 1, "--plant"},
     {"capture --plant 1 --pose 1,2,3,0,0,0,0 -o {d}/v.pcd", 1, "quaternion"},
