@@ -1,6 +1,8 @@
 #pragma once
 // Checks of option values that CLI11 does not make itself.
 
+#include <string>
+
 #include <CLI/CLI.hpp>
 
 namespace plantnbv {
@@ -10,6 +12,12 @@ namespace app {
 /// digits only. CLI11 would read "-5" into an unsigned by wrapping it and saturate past
 /// 2^64 - 1; this refuses both with a usage error (exit 2) naming the option.
 const CLI::Validator& unsignedInteger();
+
+/// For a --threads option: 0 (all cores) or a positive count; a count over the
+/// machine's cores (std::thread::hardware_concurrency) only slows the work down (the
+/// results do not depend on it), so it is lowered to the core count with a warning on
+/// stderr naming `option`. Negative or non-numeric counts are usage errors.
+CLI::Validator threadCount(const std::string& option);
 
 } // namespace app
 } // namespace plantnbv

@@ -20,6 +20,7 @@
 #include <plantnbv/scenario/trial_config_file.h>
 #include <plantnbv/session/active_vision_session.h>
 
+#include "cli_checks.h"
 #include "commands.h"
 #include "frames_out.h"
 #include "map_file.h"
@@ -197,7 +198,8 @@ void addIntegrateCommand(CLI::App& app)
       "Only these frames: indices and ranges of depth.txt's frames, e.g. 0,2,5-7");
   cmd->add_flag("--skip-unmatched", o->skip_unmatched,
                 "Skip frames with no pose within 0.02 s (default: an error)");
-  cmd->add_option("--threads", o->threads, "Threads (default: all cores)");
+  cmd->add_option("--threads", o->threads, "Threads (default: all cores)")
+      ->transform(threadCount("--threads"));
   cmd->callback([o]() { runIntegrate(*o); });
 }
 

@@ -310,7 +310,8 @@ void addPlanCommand(CLI::App& app)
       ->capture_default_str();
   cmd->add_option("--seed", o->seed, "Seed of the candidates' draw (default 0)")
       ->check(unsignedInteger());
-  cmd->add_option("--threads", o->threads, "Threads (default: all cores)");
+  cmd->add_option("--threads", o->threads, "Threads (default: all cores)")
+      ->transform(threadCount("--threads"));
   cmd->add_flag("--json", o->json, "One JSON object: best, candidates, timings");
   cmd->add_flag("--pose-only", o->pose_only,
                 "Print only the best optical pose x,y,z,qx,qy,qz,qw (for scripts)")

@@ -312,7 +312,8 @@ void addReconstructCommand(CLI::App& app)
                   "its height)");
   cmd->add_option("--seed", o->trial.seed, "Seed of the trial (default 0)")
       ->check(unsignedInteger());
-  cmd->add_option("--threads", o->trial.threads, "Threads (default: all cores)");
+  cmd->add_option("--threads", o->trial.threads, "Threads (default: all cores)")
+      ->transform(threadCount("--threads"));
   cmd->add_option("-o,--output", o->output_dir, "Output directory")->required();
   cmd->add_option(
       "--frames-out", o->frames_out,

@@ -12,6 +12,7 @@
 #include <sstream>
 #include <string>
 #include <sys/wait.h>
+#include <thread>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -1041,4 +1042,20 @@ TEST_F(RealRobotCliTest, FramesOutAppendsToItsFolderAndRefusesAnother)
   expectOneLineError(run("reconstruct --plant 1 --views 1 --frames-out " + path("A") +
                          " -o " + path("R")),
                      1, "A/camera.yaml' describes another camera");
+}
+
+TEST_F(CliTest, ThreadsOverTheCoresAreLoweredToThemWithAWarning)
+{
+  const unsigned cores = std::thread::hardware_concurrency();
+  const ToolRun r = run("reconstruct --plant 1 --views 1 --threads " +
+                        std::to_string(cores + 1000) + " -o " + path("t"));
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.err.find("warning: --threads " + std::to_string(cores + 1000) +
+                       " is more than the " + std::to_string(cores) +
+                       " cores of this machine; using " + std::to_string(cores)),
+            std::string::npos)
+      << r.err;
+  expectOneLineError(
+      run("plan --map " + path("m.ot") + " --threads -2"), 2,
+      "--threads: expected 0 (all cores) or a number of threads, got '-2'");
 }
