@@ -94,6 +94,7 @@ struct RunOptions {
   int workers = 0;
   int chunk = -1;
   int chunks = 0;
+  bool chunked = false; ///< run-chunk --chunk/--chunks given (checked by campaignChunk)
   std::string task_file; ///< run-chunk: one task of a `submit` task file
   int task = -1;
   std::string base_dir; ///< relative paths of the file are read from here if set
@@ -113,7 +114,7 @@ void runCampaign(const RunOptions& o)
     ArrayTaskTrials task = arrayTaskTrials(specs, o.task_file, o.task);
     specs = std::move(task.trials);
     tasks = task.tasks;
-  } else if (o.chunks > 0) {
+  } else if (o.chunked) {
     specs = campaignChunk(specs, o.chunk, o.chunks);
   }
 
@@ -128,7 +129,7 @@ void runCampaign(const RunOptions& o)
       if (!o.task_file.empty())
         std::cout << "; array task " << o.task << " of " << tasks << ": " << p.total
                   << " trials";
-      else if (o.chunks > 0)
+      else if (o.chunked)
         std::cout << "; chunk " << o.chunk << " of " << o.chunks << ": " << p.total
                   << " trials";
       std::cout << ", " << p.skipped << " already done, " << p.to_run << " to run on "
@@ -291,6 +292,7 @@ void addCampaignCommand(CLI::App& app)
     if (chunk_index->count() == 0 && task_file->count() == 0)
       throw CLI::RequiredError("give --chunk and --chunks, or --task-file and --task",
                                CLI::ExitCodes::RequiredError);
+    chunk->chunked = chunk_index->count() > 0;
     runCampaign(*chunk);
   });
 

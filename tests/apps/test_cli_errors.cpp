@@ -107,6 +107,10 @@ const std::vector<BadCall> kBadCalls = {
     {"campaign status {d}/nowhere", 1, "nowhere"},
     {"campaign report {d}/nowhere", 1, "nowhere"},
     {"campaign run-chunk {d}/tiny.yaml -o {d}/c --chunk 3 --chunks 2", 1, "chunk"},
+    {"campaign run-chunk {d}/tiny.yaml -o {d}/c --chunk 0 --chunks 0", 1,
+     "chunk 0 of 0: expected 0 <= chunk < chunks"},
+    {"campaign run-chunk {d}/tiny.yaml -o {d}/c --chunk -1 --chunks 3", 1,
+     "chunk -1 of 3: expected 0 <= chunk < chunks"},
     // integrate: frames folders with one defect each (copies of {d}/good, see the test)
     {"integrate {d}/nocamera -o {d}/m.ot", 1, "nocamera/camera.yaml': no such file"},
     {"integrate {d}/nomatrix -o {d}/m.ot", 1,
