@@ -2,6 +2,7 @@
 #include <string>
 
 #include <gtest/gtest.h>
+#include <yaml-cpp/yaml.h>
 
 #include <plantnbv/common/error.h>
 #include <plantnbv/io/yaml_reader.h>
@@ -90,4 +91,18 @@ TEST(YamlReader, ReadsFilesWithinTheInputLimits)
   const std::string text =
       YamlReader::readText(std::string(PLANTNBV_DATA_DIR) + "/campaigns/quick.yaml");
   EXPECT_NE(text.find("name: quick"), std::string::npos);
+}
+
+TEST(YamlReader, AValueHoldingAnAliasOfItselfIsDescribedShortly)
+{
+  // An anchor whose value holds an alias of itself: a cycle, described as far as 4
+  // levels and about 160 characters (it recursed without end before).
+  const YAML::Node cycle = YAML::Load("a: &x [1, {b: *x}]")["a"];
+  const std::string text = YamlReader::describe(cycle);
+  EXPECT_EQ(text.rfind("[1, {b: [1, {b: ", 0), 0u) << text;
+  EXPECT_NE(text.find("..."), std::string::npos) << text;
+  EXPECT_LT(text.size(), 200u) << text;
+  const YAML::Node long_list = YAML::Load("[" + std::string(2000, '7') + ", 1, 2]");
+  EXPECT_LT(YamlReader::describe(long_list).size(), 200u);
+  EXPECT_EQ(YamlReader::describe(YAML::Load("{k: [1, 2]}")), "{k: [1, 2]}");
 }

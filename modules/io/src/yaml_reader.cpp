@@ -85,31 +85,61 @@ std::string YamlReader::index(const std::string& path, std::size_t i)
   return path + "[" + std::to_string(i) + "]";
 }
 
-std::string YamlReader::describe(const YAML::Node& node)
+namespace {
+
+/// Appends `node` as YAML-like text, at most 4 levels deep and about 160 characters
+/// ("..." beyond): a value that contains itself (an alias of an enclosing anchor) or a
+/// huge one still gives a short, one-line message instead of endless recursion.
+void describeInto(const YAML::Node& node, int depth, std::string& out)
 {
+  constexpr std::size_t kMaxChars = 160;
+  if (out.size() > kMaxChars || depth > 4) {
+    out += "...";
+    return;
+  }
   switch (node.Type()) {
   case YAML::NodeType::Undefined:
   case YAML::NodeType::Null:
-    return "nothing";
+    out += "nothing";
+    return;
   case YAML::NodeType::Scalar:
-    return node.Scalar();
-  case YAML::NodeType::Sequence: {
-    std::string s = "[";
-    for (std::size_t i = 0; i < node.size(); ++i)
-      s += (i ? ", " : "") + describe(node[i]);
-    return s + "]";
-  }
+    out += node.Scalar().size() > kMaxChars ? node.Scalar().substr(0, kMaxChars) + "..."
+                                            : node.Scalar();
+    return;
+  case YAML::NodeType::Sequence:
+    out += "[";
+    for (std::size_t i = 0; i < node.size() && out.size() <= kMaxChars; ++i) {
+      out += i ? ", " : "";
+      describeInto(node[i], depth + 1, out);
+    }
+    out += out.size() > kMaxChars ? "...]" : "]";
+    return;
   case YAML::NodeType::Map: {
-    std::string s = "{";
+    out += "{";
     bool first = true;
     for (const auto& kv : node) {
-      s += (first ? "" : ", ") + describe(kv.first) + ": " + describe(kv.second);
+      if (out.size() > kMaxChars)
+        break;
+      out += first ? "" : ", ";
+      describeInto(kv.first, depth + 1, out);
+      out += ": ";
+      describeInto(kv.second, depth + 1, out);
       first = false;
     }
-    return s + "}";
+    out += out.size() > kMaxChars ? "...}" : "}";
+    return;
   }
   }
-  return "?";
+  out += "?";
+}
+
+} // namespace
+
+std::string YamlReader::describe(const YAML::Node& node)
+{
+  std::string out;
+  describeInto(node, 0, out);
+  return out;
 }
 
 } // namespace io

@@ -89,7 +89,8 @@ public:
   /// \brief "path[i]".
   static std::string index(const std::string& path, std::size_t i);
   /// \brief The node as the user wrote it, in flow style, for messages ("nothing" for
-  /// a missing or null node).
+  /// a missing or null node); at most 4 levels and about 160 characters, "..." beyond,
+  /// so that a value holding an alias of itself gives a short message.
   static std::string describe(const YAML::Node& node);
 
 private:
