@@ -1,4 +1,4 @@
-#!/usr/bin/env python3
+#!/usr/bin/python3
 """What the Python layer costs (docs/performance.md, "Python"): the same work called
 from NumPy and by the C++ tool, medians of REPEATS runs each.
 
@@ -11,6 +11,9 @@ from NumPy and by the C++ tool, medians of REPEATS runs each.
            Python call (NextBestView.timings_ms["total"], a warm process). Python:
            Session.next_best_view() wall time on a fresh session that read the same map
            (snapshot rebuilt, as in the tool), ranking and arrays included.
+  arrays:  reading an (N, 3) array into the library: crop_to_roi of 1M random points
+           with an empty ROI (little but that one pass), float32 and float64, C and
+           Fortran order.
 
 Usage: PYTHONPATH=build/python /usr/bin/python3 bench/python_overhead.py build/bin/plantnbv
        [REPEATS] [THREADS]
@@ -102,6 +105,12 @@ def main():
     print(f"one planning step: C++ tool {cpp:.2f} ms, C++ inside the Python call "
           f"{inner:.2f} ms, Python {py:.2f} ms ({py / cpp:.3f}x the tool, "
           f"{py / inner:.3f}x the same process)")
+
+    points = np.random.default_rng(0).random((1_000_000, 3))
+    for name, array in [("float32 C", points.astype(np.float32)), ("float64 C", points),
+                        ("float64 Fortran", np.asfortranarray(points))]:
+        ms = median_ms(lambda: pn.crop_to_roi(array, pn.Roi()), repeats)
+        print(f"reading 1M points from {name}: {ms:.1f} ms")
 
 
 if __name__ == "__main__":

@@ -1,4 +1,4 @@
-#!/usr/bin/env python3
+#!/usr/bin/python3
 """Scores your own reconstruction (a PLY or PCD cloud) against a plant mesh, as
 `plantnbv eval` does: the mesh is sampled and reduced to voxel centres at the resolution,
 then Chamfer distance and precision / recall / F1 at rho (default: the resolution).

@@ -1,4 +1,4 @@
-#!/usr/bin/env python3
+#!/usr/bin/python3
 """A whole next-best-view loop: a tomato plant, the simulated L515, the occupancy map and
 the attention planner on the main stem; F1 of the stem after every view, plotted.
 Usage: nbv_loop.py [OUT_DIR]   (writes f1.png, reconstruction.ply and plant.ply there)"""

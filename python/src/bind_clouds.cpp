@@ -276,17 +276,19 @@ void bindClouds(py::module_& m)
       "write_cloud",
       [](const Path& path, const py::handle& points, const py::handle& labels,
          bool binary) {
-        CloudXYZL cloud;
-        readLabelledPoints(points, labels, "points", cloud);
-        py::gil_scoped_release release;
-        if (labels.is_none()) {
-          CloudXYZ xyz;
-          xyz.resize(cloud.size());
-          for (std::size_t i = 0; i < cloud.size(); ++i)
-            xyz[i] = pcl::PointXYZ(cloud[i].x, cloud[i].y, cloud[i].z);
-          io::saveCloud(path.string(), xyz, binary);
-        } else {
+        // x y z only without labels, x y z label with them: each read once.
+        auto write = [&](auto& cloud) {
+          py::gil_scoped_release release;
           io::saveCloud(path.string(), cloud, binary);
+        };
+        if (labels.is_none()) {
+          CloudXYZ cloud;
+          readPoints(points, "points", cloud);
+          write(cloud);
+        } else {
+          CloudXYZL cloud;
+          readLabelledPoints(points, labels, "points", cloud);
+          write(cloud);
         }
       },
       "path"_a, "points"_a, "labels"_a = py::none(), "binary"_a = true,

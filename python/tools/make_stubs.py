@@ -1,4 +1,4 @@
-#!/usr/bin/env python3
+#!/usr/bin/python3
 """Writes a .pyi stub of a pybind11 module from its signatures and docstrings, so that
 editors complete and type-check plantnbv. Usage: make_stubs.py MODULE OUT.pyi
 
