@@ -27,7 +27,6 @@
 
 #include <plantnbv/common/error.h>
 #include <plantnbv/experiment/campaign.h>
-#include <plantnbv/experiment/campaign_report.h>
 #include <plantnbv/experiment/campaign_runner.h>
 #include <plantnbv/experiment/result_store.h>
 #include <plantnbv/experiment/trial.h>
@@ -190,13 +189,8 @@ void runCampaign(const RunOptions& o)
 
 void statusCampaign(const std::string& dir)
 {
-  const ResultStore store(dir);
-  const std::string file = store.definitionPath().string();
-  if (!fs::exists(file))
-    throw IoError("'" + dir + "' is not a campaign directory (no campaign.yaml)");
-  const scenario::CampaignFile f = scenario::loadCampaignFile(file);
-  const std::vector<TrialSpec> specs = expandCampaign(f.definition);
-  const StoreStatus s = store.status(specs);
+  scenario::CampaignFile f;
+  const StoreStatus s = scenario::campaignDirectoryStatus(dir, &f);
   std::cout << "campaign '" << f.definition.name << "': " << s.total << " trials, "
             << s.done << " done, " << s.failed << " failed, " << s.missing
             << " missing\n";
@@ -210,38 +204,18 @@ void statusCampaign(const std::string& dir)
 
 void reportCampaign(const std::string& dir, std::string out, bool figures)
 {
-  const ResultStore store(dir);
-  if (!fs::is_directory(fs::path(dir) / "trials"))
-    throw IoError("'" + dir + "' is not a campaign directory (no trials/)");
-  const std::vector<StoredTrial> trials = store.load();
-  if (trials.empty())
-    throw InvalidArgumentError("'" + dir + "' holds no trial results yet");
   if (figures)
     requireDisplayOrReexec();
-  std::string title = "Campaign " + fs::path(dir).filename().string();
-  std::string missing;
-  if (fs::exists(store.definitionPath())) {
-    const scenario::CampaignFile f =
-        scenario::loadCampaignFile(store.definitionPath().string());
-    title = "Campaign '" + f.definition.name + "'";
-    const StoreStatus s = store.status(expandCampaign(f.definition));
-    if (s.missing)
-      missing = ", " + std::to_string(s.missing) + " of " + std::to_string(s.total) +
-                " still missing";
-  }
   if (out.empty())
     out = (fs::path(dir) / "report").string();
-  writeCampaignReport(trials, out, title);
-  const std::size_t failed = std::count_if(trials.begin(), trials.end(),
-                                           [](const StoredTrial& t) { return t.failed; });
-  std::cout << trials.size() - failed << " trials done, " << failed << " failed"
-            << missing << "; wrote " << (fs::path(out) / "curves.csv").string()
-            << " and summary.md";
-  if (figures) {
-    const std::vector<fs::path> pngs = scenario::writeCampaignFigures(campaignCurves(trials), out);
-    for (const fs::path& png : pngs)
-      std::cout << ", " << png.filename().string();
-  }
+  const scenario::CampaignReportFiles r =
+      scenario::writeCampaignReportFiles(dir, out, figures);
+  std::cout << r.trials - r.failed << " trials done, " << r.failed << " failed";
+  if (r.missing)
+    std::cout << ", " << r.missing << " of " << r.total << " still missing";
+  std::cout << "; wrote " << r.written[0].string() << " and summary.md";
+  for (std::size_t i = 2; i < r.written.size(); ++i)
+    std::cout << ", " << r.written[i].filename().string();
   std::cout << "\n";
 }
 

@@ -11,7 +11,6 @@
 
 #include <plantnbv/common/error.h>
 #include <plantnbv/experiment/campaign.h>
-#include <plantnbv/experiment/campaign_report.h>
 #include <plantnbv/experiment/campaign_runner.h>
 #include <plantnbv/experiment/result_store.h>
 #include <plantnbv/experiment/trial.h>
@@ -202,38 +201,14 @@ py::dict runCampaign(const Path& file, const Path& out_dir, int workers,
 
 py::dict campaignStatus(const Path& dir)
 {
-  const ResultStore store(dir);
-  if (!fs::exists(store.definitionPath()))
-    throw FileNotFoundError("'" + dir.string() +
-                            "' is not a campaign directory (no campaign.yaml)");
-  const scenario::CampaignFile f =
-      scenario::loadCampaignFile(store.definitionPath().string());
-  return statusDict(store.status(expandCampaign(f.definition)));
+  return statusDict(scenario::campaignDirectoryStatus(dir));
 }
 
 std::vector<Path> campaignReport(const Path& dir, std::optional<Path> out, bool figures)
 {
   py::gil_scoped_release release;
-  const ResultStore store(dir);
-  if (!fs::is_directory(dir / "trials"))
-    throw FileNotFoundError("'" + dir.string() +
-                            "' is not a campaign directory (no trials/)");
-  const std::vector<StoredTrial> trials = store.load();
-  if (trials.empty())
-    throw InvalidArgumentError("'" + dir.string() + "' holds no trial results yet");
-  std::string title = "Campaign " + dir.filename().string();
-  if (fs::exists(store.definitionPath()))
-    title = "Campaign '" +
-            scenario::loadCampaignFile(store.definitionPath().string()).definition.name +
-            "'";
-  const Path out_dir = out ? *out : dir / "report";
-  writeCampaignReport(trials, out_dir, title);
-  std::vector<Path> written{out_dir / "curves.csv", out_dir / "summary.md"};
-  if (figures)
-    for (const Path& png :
-         scenario::writeCampaignFigures(campaignCurves(trials), out_dir))
-      written.push_back(png);
-  return written;
+  return scenario::writeCampaignReportFiles(dir, out ? *out : dir / "report", figures)
+      .written;
 }
 
 } // namespace

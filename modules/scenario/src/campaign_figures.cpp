@@ -1,12 +1,14 @@
-#include <plantnbv/scenario/campaign_figures.h>
-
 #include <algorithm>
 #include <cmath>
 #include <functional>
 #include <map>
 #include <optional>
 
+#include <plantnbv/common/error.h>
 #include <plantnbv/common/roi_kind.h>
+#include <plantnbv/experiment/result_store.h>
+#include <plantnbv/scenario/campaign_figures.h>
+#include <plantnbv/scenario/campaign_file.h>
 #include <plantnbv/viz/line_chart.h>
 
 namespace plantnbv {
@@ -181,6 +183,36 @@ std::vector<fs::path> writeCampaignFigures(const std::vector<CurveRow>& rows,
     figure.render(written.back().string());
   }
   return written;
+}
+
+CampaignReportFiles writeCampaignReportFiles(const fs::path& dir, const fs::path& out_dir,
+                                             bool figures)
+{
+  const ResultStore store(dir);
+  if (!fs::is_directory(dir / "trials"))
+    throw FileNotFoundError("'" + dir.string() +
+                            "' is not a campaign directory (no trials/)");
+  const std::vector<StoredTrial> trials = store.load();
+  if (trials.empty())
+    throw InvalidArgumentError("'" + dir.string() + "' holds no trial results yet");
+  CampaignReportFiles r;
+  r.trials = trials.size();
+  r.failed = std::size_t(std::count_if(trials.begin(), trials.end(),
+                                       [](const StoredTrial& t) { return t.failed; }));
+  std::string title = "Campaign " + dir.filename().string();
+  if (fs::exists(store.definitionPath())) {
+    CampaignFile f;
+    const StoreStatus s = campaignDirectoryStatus(dir, &f);
+    title = "Campaign '" + f.definition.name + "'";
+    r.missing = s.missing;
+    r.total = s.total;
+  }
+  writeCampaignReport(trials, out_dir, title);
+  r.written = {out_dir / "curves.csv", out_dir / "summary.md"};
+  if (figures)
+    for (const fs::path& png : writeCampaignFigures(campaignCurves(trials), out_dir))
+      r.written.push_back(png);
+  return r;
 }
 
 } // namespace scenario

@@ -382,5 +382,18 @@ void runCampaignTrial(const CampaignFile& f, const TrialSpec& t, TrialResult& re
   trial.run(result);
 }
 
+StoreStatus campaignDirectoryStatus(const std::filesystem::path& dir, CampaignFile* file)
+{
+  const ResultStore store(dir);
+  if (!std::filesystem::exists(store.definitionPath()))
+    throw FileNotFoundError("'" + dir.string() +
+                            "' is not a campaign directory (no campaign.yaml)");
+  CampaignFile f = loadCampaignFile(store.definitionPath().string());
+  const StoreStatus status = store.status(expandCampaign(f.definition));
+  if (file)
+    *file = std::move(f);
+  return status;
+}
+
 } // namespace scenario
 } // namespace plantnbv

@@ -21,5 +21,23 @@ std::vector<std::filesystem::path>
 writeCampaignFigures(const std::vector<CurveRow>& rows,
                      const std::filesystem::path& out_dir);
 
+/// \brief What writeCampaignReportFiles read and wrote.
+struct CampaignReportFiles {
+  std::size_t trials = 0;  ///< result files read
+  std::size_t failed = 0;  ///< of those, failed
+  std::size_t missing = 0; ///< trials of campaign.yaml without a result (0 without it)
+  std::size_t total = 0;   ///< trials of campaign.yaml (0 without it)
+  std::vector<std::filesystem::path> written; ///< curves.csv, summary.md, PNGs
+};
+
+/// \brief `campaign report`: the report (writeCampaignReport) of the results in the
+/// campaign directory `dir` into `out_dir`, titled by its campaign.yaml's name, and with
+/// `figures` the PNGs (writeCampaignFigures: needs an X display).
+/// \throws FileNotFoundError when `dir` has no trials/; InvalidArgumentError when it
+/// holds no result yet; IoError when a file cannot be written.
+CampaignReportFiles writeCampaignReportFiles(const std::filesystem::path& dir,
+                                             const std::filesystem::path& out_dir,
+                                             bool figures);
+
 } // namespace scenario
 } // namespace plantnbv

@@ -7,6 +7,7 @@
 #include <string>
 
 #include <plantnbv/experiment/campaign.h>
+#include <plantnbv/experiment/result_store.h>
 #include <plantnbv/experiment/trial.h>
 
 namespace plantnbv {
@@ -40,6 +41,12 @@ TrialConfig campaignTrialConfig(const CampaignFile& f, const TrialSpec& t);
 /// \brief Runs trial `t` of `f`: its own plant, scene and map, on one thread.
 /// \throws the errors of the plant's files and of the trial.
 void runCampaignTrial(const CampaignFile& f, const TrialSpec& t, TrialResult& result);
+
+/// \brief A campaign directory's counts against the campaign.yaml it holds (`campaign
+/// status`, Python's campaign_status); `file`, if not null, receives that file.
+/// \throws FileNotFoundError when DIR holds no campaign.yaml; as loadCampaignFile.
+StoreStatus campaignDirectoryStatus(const std::filesystem::path& dir,
+                                    CampaignFile* file = nullptr);
 
 } // namespace scenario
 } // namespace plantnbv
