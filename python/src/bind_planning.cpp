@@ -85,8 +85,7 @@ void integrateDepth(OccupancyMap& map, const py::handle& depth,
   const CameraIntrinsics camera = intrinsics; // Python may change its own meanwhile
   ReleasedAndLocked lock;
   CloudXYZ cloud;
-  depthToCloud(d, camera, pose, cloud);
-  map.insert(cloud, pose.position);
+  integrateDepthFrame(map, d, camera, pose, cloud);
 }
 
 void bindMap(py::module_& m)

@@ -135,3 +135,12 @@ def test_malformed_files_are_format_errors(tmp_path):
 def test_unwritable_paths_are_os_errors(tmp_path):
     with pytest.raises(OSError):
         pn.write_cloud(tmp_path / "no" / "such" / "dir.pcd", GOOD)
+
+
+def test_a_camera_made_invalid_after_construction_is_refused_where_it_is_used():
+    camera = pn.CameraIntrinsics(4, 4, 2.0, 2.0, 1.5, 1.5)
+    camera.fx = 0.0
+    with pytest.raises(ValueError, match="fx"):
+        pn.OccupancyMap().integrate(np.ones((4, 4)), camera, [0, 0, 0, 0, 0, 0, 1])
+    with pytest.raises(ValueError, match="fx"):
+        pn.Session().integrate(np.ones((4, 4)), camera, [0, 0, 0, 0, 0, 0, 1])

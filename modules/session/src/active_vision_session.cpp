@@ -99,9 +99,16 @@ void ActiveVisionSession::setCurrentView(const Viewpoint& view)
 void ActiveVisionSession::integrate(const DepthImage& depth,
                                     const CameraIntrinsics& intrinsics, const Pose& T_W_O)
 {
+  integrateDepthFrame(*map_, depth, intrinsics, T_W_O, *frame_W_);
+}
+
+void integrateDepthFrame(OccupancyMap& map, const DepthImage& depth,
+                         const CameraIntrinsics& intrinsics, const Pose& T_W_O,
+                         CloudXYZ& scratch_W)
+{
   intrinsics.validate();
-  depthToCloud(depth, intrinsics, T_W_O, *frame_W_);
-  map_->insert(*frame_W_, T_W_O.position);
+  depthToCloud(depth, intrinsics, T_W_O, scratch_W);
+  map.insert(scratch_W, T_W_O.position);
 }
 
 void ActiveVisionSession::integrate(const CloudXYZ& cloud_W,

@@ -139,6 +139,14 @@ private:
   std::unique_ptr<CloudXYZ> frame_W_; ///< scratch of integrate(depth, ...)
 };
 
+/// \brief The one rule for a depth frame into a map: intrinsics checked, depthToCloud
+/// into `scratch_W`, then the map's update from the optical centre T_W_O.position.
+/// \throws InvalidArgumentError as CameraIntrinsics::validate, depthToCloud and
+/// OccupancyMap::insert.
+void integrateDepthFrame(OccupancyMap& map, const DepthImage& depth,
+                         const CameraIntrinsics& intrinsics, const Pose& T_W_O,
+                         CloudXYZ& scratch_W);
+
 /// \brief The ranking of a planning step's candidates (NextBestView::ranking's order).
 std::vector<RankedView> rankCandidates(const NextViewResult& result);
 
