@@ -450,8 +450,14 @@ TEST_F(CliTest, CampaignBadFilesAreOneLineErrorsNamingTheKeyPath)
   };
   const std::string base = tinyCampaign();
   bad("unknown.yaml", base + "    candidats: [9]\n", "studies[0].candidats: unknown key");
-  bad("type.yaml", "views: ten\n" + base.substr(base.find("plants")),
+  const auto replaced = [&](const std::string& from, const std::string& to) {
+    std::string text = base;
+    return text.replace(text.find(from), from.size(), to);
+  };
+  bad("type.yaml", replaced("views: 3\n", "views: ten\n"),
       "views: 'ten' is not an integer");
+  bad("twice.yaml", base + "seed: 12\n",
+      "(line 17): key 'seed' appears twice (first on line 2)");
   bad("zero.yaml", base + "    candidates: [9, 10]\n",
       "studies[0].candidates[1] 10: expected a multiple of the 9 grid cells");
   bad("roi.yaml",
@@ -462,7 +468,7 @@ TEST_F(CliTest, CampaignBadFilesAreOneLineErrorsNamingTheKeyPath)
       base.substr(0, base.find("      - {type: nbv")) +
           "      - {type: predefined, patterns: [1, 5]}\n",
       "studies[0].planners[0].patterns[1]: 5 is not a pattern 1-4");
-  bad("trialviews.yaml", "trial: {views: 3}\n" + base.substr(base.find("name:")),
+  bad("trialviews.yaml", replaced("trial:\n", "trial:\n  views: 3\n"),
       "trial.views: set by the campaign");
   bad("trialunknown.yaml",
       base.substr(0, base.find("  gain:")) + "  gain: {rays: 32}\n" +
@@ -1058,4 +1064,115 @@ TEST_F(CliTest, ThreadsOverTheCoresAreLoweredToThemWithAWarning)
   expectOneLineError(
       run("plan --map " + path("m.ot") + " --threads -2"), 2,
       "--threads: expected 0 (all cores) or a number of threads, got '-2'");
+}
+
+// --- a full disk: every command that writes fails naming the file, keeps what was ------
+
+namespace {
+
+/// Every regular file under `dir` (relative name -> bytes).
+std::map<std::string, std::string> filesUnder(const fs::path& dir)
+{
+  std::map<std::string, std::string> files;
+  for (const auto& e : fs::recursive_directory_iterator(dir))
+    if (e.is_regular_file())
+      files[fs::relative(e.path(), dir).string()] = slurp(e.path());
+  return files;
+}
+
+} // namespace
+
+TEST_F(CliTest, AFullDiskFailsTheCommandNamingTheFileAndKeepsThePreviousFiles)
+{
+  write("small.yaml", kSmallTrial);
+  write("one.yaml", "name: one\nseed: 1\nplants: [{seed: 0}]\nyaws_deg: [0]\nviews: 2\n"
+                    "levels: [whole_plant]\ntrial:\n"
+                    "  camera: 160x120:114.25,114.25,79.5,59.5\n"
+                    "  gain: {rays_x: 32, rays_y: 24}\n"
+                    "studies:\n  - name: main\n    planners: [{type: random}]\n");
+  const std::string mesh = kFixtures + "/plant_like.ply";
+  struct Case {
+    std::string args;  ///< run once as it is, then again on a "full disk"
+    std::string kept;  ///< the output (file or folder) whose files must stay as they were
+    std::string named; ///< the file the error must name
+  };
+  const std::vector<Case> cases = {
+      {"sample --mesh " + mesh + " --points 20000 -o " + path("s.pcd"), "s.pcd", "s.pcd"},
+      {"sample --mesh " + mesh + " --points 20000 -o " + path("s.ply"), "s.ply", "s.ply"},
+      {"plant --seed 0 -o " + path("p"), "p", "plant.ply"},
+      {"capture --plant 1 -o " + path("c/v.pcd"), "c", "v.pcd"},
+      {"capture --plant 1 --depth " + path("d/v.png") + " -o " + path("d/v.ply"), "d",
+       "v."},
+      {"capture --plant 1 --map " + path("m/v.bt") + " -o " + path("m/v.pcd"), "m", "v."},
+      {"capture --plant 1 --frames-out " + path("F"), "F", "F/depth/000001.png"},
+      {"integrate " + path("F") + " -o " + path("i/m.ot"), "i", "m.ot"},
+      {"reconstruct --plant 0 --views 2 --config " + path("small.yaml") + " -o " +
+           path("t"),
+       "t", path("t/")},
+      {"campaign run " + path("one.yaml") + " -o " + path("r"), "r/campaign.yaml", ""},
+      {"campaign report " + path("r") + " --no-figures -o " + path("rep"), "rep",
+       path("rep/")},
+  };
+  for (const char* folder : {"c", "d", "m", "i"})
+    fs::create_directories(path(folder));
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.args);
+    const ToolRun first = run(c.args);
+    ASSERT_EQ(first.code, 0) << first.err;
+    const std::map<std::string, std::string> before =
+        fs::is_directory(path(c.kept))
+            ? filesUnder(path(c.kept))
+            : std::map<std::string, std::string>{{c.kept, slurp(path(c.kept))}};
+    // 1 KiB for the process's files (its stdout and stderr files included), SIGXFSZ
+    // ignored: writes past it fail with EFBIG, as on a full disk.
+    const std::string cmd = "bash -c \"trap '' XFSZ; ulimit -f 1; exec " + kTool + " " +
+                            c.args + "\" >" + path("stdout") + " 2>" + path("stderr");
+    const int status = std::system(cmd.c_str());
+    ASSERT_TRUE(WIFEXITED(status)) << "killed by signal " << WTERMSIG(status);
+    const std::string err = slurp(path("stderr")), out = slurp(path("stdout"));
+    if (c.named.empty()) { // campaign run: the trial's error is its progress line
+      EXPECT_EQ(WEXITSTATUS(status), 0) << err;
+    } else {
+      EXPECT_EQ(WEXITSTATUS(status), 1) << err;
+      EXPECT_NE(err.find("File too large"), std::string::npos) << err;
+      EXPECT_NE(err.find(c.named), std::string::npos) << err;
+    }
+    const std::map<std::string, std::string> after =
+        fs::is_directory(path(c.kept))
+            ? filesUnder(path(c.kept))
+            : std::map<std::string, std::string>{{c.kept, slurp(path(c.kept))}};
+    EXPECT_EQ(after.size(), before.size());
+    for (const auto& [name, bytes] : before)
+      EXPECT_TRUE(after.count(name) && after.at(name) == bytes) << name << " changed";
+    for (const auto& e : fs::recursive_directory_iterator(dir_))
+      EXPECT_EQ(e.path().filename().string().find(".tmp."), std::string::npos)
+          << e.path();
+  }
+  // A campaign whose results cannot be stored: the trial fails naming its file, nothing
+  // half-written is left, and a later run does it.
+  fs::remove_all(path("r/trials"));
+  const std::string cmd = "bash -c \"trap '' XFSZ; ulimit -f 1; exec " + kTool +
+                          " campaign run " + path("one.yaml") + " -o " + path("r") +
+                          "\" >/dev/null 2>" + path("stderr");
+  const int status = std::system(cmd.c_str());
+  EXPECT_EQ(WEXITSTATUS(status), 1);
+  const std::map<std::string, nlohmann::json> stored = trialFiles(path("r"));
+  ASSERT_EQ(stored.size(), 1u); // the failure, which is short enough to be stored
+  const nlohmann::json& failure = stored.begin()->second;
+  EXPECT_EQ(failure["status"], "failed");
+  EXPECT_NE(failure["error"].get<std::string>().find(stored.begin()->first +
+                                                     "': File too large"),
+            std::string::npos)
+      << failure["error"];
+  EXPECT_EQ(run("campaign run " + path("one.yaml") + " -o " + path("r")).code, 0);
+  EXPECT_NE(run("campaign status " + path("r")).out.find("1 done"), std::string::npos);
+  // Standard output that cannot be written: exit 1, not 0.
+  const int full =
+      std::system((kTool + " eval --json --reference " + mesh + " --reconstruction " +
+                   mesh + " >/dev/full 2>" + path("stderr"))
+                      .c_str());
+  EXPECT_EQ(WEXITSTATUS(full), 1);
+  EXPECT_NE(slurp(path("stderr")).find("cannot write standard output: No space left"),
+            std::string::npos)
+      << slurp(path("stderr"));
 }

@@ -106,3 +106,91 @@ TEST(YamlReader, AValueHoldingAnAliasOfItselfIsDescribedShortly)
   EXPECT_LT(YamlReader::describe(long_list).size(), 200u);
   EXPECT_EQ(YamlReader::describe(YAML::Load("{k: [1, 2]}")), "{k: [1, 2]}");
 }
+
+namespace {
+
+/// The message of parse()'s FormatError for `text` ("" if it parses).
+std::string parseError(const std::string& text)
+{
+  try {
+    YamlReader("f.yaml").parse(text);
+  } catch (const FormatError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+} // namespace
+
+TEST(YamlReader, DocumentsThatWouldMakeReadersRecurseOrExplodeAreRefusedByLine)
+{
+  // Alias cycles, directly or through maps and lists, at any depth.
+  for (const std::string cycle :
+       {"a: &x [1, *x]\n", "a: &x {b: *x}\n", "k: 1\nl:\n  - &y [0, [1, [2, *y]]]\n",
+        "&top {a: [*top]}\n", "a: &x {b: [{c: *x}]}\n"}) {
+    const std::string e = parseError(cycle);
+    EXPECT_NE(e.find("holds an alias of itself"), std::string::npos) << cycle << e;
+    EXPECT_NE(e.find("f.yaml"), std::string::npos) << e;
+  }
+  // Nesting: the limit itself passes, one level more is refused, in flow and block
+  // styles; yaml-cpp's own limit (2000) beyond that is a FormatError too.
+  for (const bool flow : {true, false})
+    for (const std::size_t depth : {plantnbv::io::kMaxYamlDepth,
+                                    plantnbv::io::kMaxYamlDepth + 1, std::size_t(5000)}) {
+      std::string text;
+      if (flow)
+        text = std::string(depth, '[') + "1" + std::string(depth, ']');
+      else
+        for (std::size_t d = 0; d < depth; ++d)
+          text += std::string(2 * d, ' ') + "-\n";
+      const std::string e = parseError(text);
+      if (depth <= plantnbv::io::kMaxYamlDepth && flow)
+        EXPECT_EQ(e, "") << depth;
+      else if (depth <= plantnbv::io::kMaxYamlDepth)
+        EXPECT_EQ(e.find("nested"), std::string::npos) << e;
+      else
+        EXPECT_FALSE(e.empty()) << depth << (flow ? " flow" : " block");
+    }
+  // Aliases that multiply: 10 lists of 10 aliases of the one before are 10^10 values.
+  std::string laughs = "a0: &a0 [x, x, x, x, x, x, x, x, x, x]\n";
+  for (int i = 1; i < 10; ++i) {
+    laughs += "a" + std::to_string(i) + ": &a" + std::to_string(i) + " [";
+    for (int k = 0; k < 10; ++k)
+      laughs += (k ? ", *a" : "*a") + std::to_string(i - 1);
+    laughs += "]\n";
+  }
+  EXPECT_NE(parseError(laughs).find("aliases expand the document"), std::string::npos);
+  // Sharing that stays small is fine.
+  EXPECT_EQ(parseError("base: &b {x: 1}\nother: *b\nthird: [*b, *b]\n"), "");
+}
+
+TEST(YamlReader, AKeyRepeatedInOneMapIsRefusedWithBothLines)
+{
+  EXPECT_NE(parseError("seed: 1\nviews: 3\nseed: 2\n")
+                .find("(line 3): key 'seed' appears twice (first on line 1)"),
+            std::string::npos);
+  EXPECT_NE(parseError("a:\n  b: 1\n  c: 2\n  b: 3\n").find("key 'b' appears twice"),
+            std::string::npos);
+  EXPECT_NE(parseError("l: [{k: 1, k: 1}]\n").find("key 'k'"), std::string::npos);
+  // The same key in two maps is no repetition.
+  EXPECT_EQ(parseError("a: {k: 1}\nb: {k: 1}\n"), "");
+}
+
+TEST(YamlReader, CanonicalTextIgnoresCommentsOrderQuotingAndStyle)
+{
+  const auto canonical = [](const std::string& text) {
+    return YamlReader::canonical(YamlReader("f.yaml").parse(text));
+  };
+  const std::string a =
+      canonical("name: x\nseed: 3\nlist: [1, 'two']\nmap: {p: 1, q: 2}\n");
+  EXPECT_EQ(a, canonical("# a comment\nseed: 3 # why\nmap:\n  q: 2\n  p: 1\nname: \"x\"\n"
+                         "list:\n  - 1\n  - two\n"));
+  EXPECT_EQ(a, canonical("anchor: &s 3\nname: x\nseed: *s\nlist: [1, two]\n"
+                         "map: {p: 1, q: 2}\n")
+                   .replace(0, std::string("{\"anchor\":\"3\",").size(), "{"));
+  EXPECT_NE(a, canonical("name: x\nseed: 4\nlist: [1, two]\nmap: {p: 1, q: 2}\n"));
+  EXPECT_NE(a, canonical("name: x\nseed: 3\nlist: [two, 1]\nmap: {p: 1, q: 2}\n"));
+  // No scalar can imitate the punctuation of another document's text.
+  EXPECT_NE(canonical("a: 'b\",\"c'\n"), canonical("a: b\nc: ~\n"));
+  EXPECT_NE(canonical("a: ~\n"), canonical("a: '~'\n"));
+}

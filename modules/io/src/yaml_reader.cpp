@@ -1,4 +1,6 @@
+#include <algorithm>
 #include <cmath>
+#include <map>
 
 #include <plantnbv/io/input_limits.h>
 #include <plantnbv/io/yaml_reader.h>
@@ -8,13 +10,88 @@
 namespace plantnbv {
 namespace io {
 
+namespace {
+
+/// A scalar in double quotes with '"' and '\\' escaped, so that no scalar can imitate
+/// the canonical text's punctuation.
+std::string quoted(const std::string& scalar)
+{
+  std::string out = "\"";
+  for (char c : scalar) {
+    if (c == '"' || c == '\\')
+      out += '\\';
+    out += c;
+  }
+  return out + "\"";
+}
+
+/// Walks the document as its readers will (aliases followed) without recursion, and
+/// refuses what would make them recurse without end or visit without end: a value that
+/// holds an alias of itself, nesting deeper than kMaxYamlDepth, and aliases that
+/// multiply a document past kMaxYamlNodes visited nodes ("billion laughs").
+void checkDocumentShape(const YAML::Node& root, const std::string& file)
+{
+  struct Visit {
+    YAML::Node node;
+    std::size_t depth;
+  };
+  std::vector<Visit> stack{{root, 0}};
+  std::vector<YAML::Node> path; // path[d]: the open collection at depth d
+  std::size_t visited = 0;
+  auto where = [](const YAML::Node& n) {
+    return n.Mark().is_null() ? std::string()
+                              : " (line " + std::to_string(n.Mark().line + 1) + ")";
+  };
+  while (!stack.empty()) {
+    Visit v = std::move(stack.back());
+    stack.pop_back();
+    if (++visited > kMaxYamlNodes)
+      throw FormatError("'" + file + "': aliases expand the document to more than " +
+                        std::to_string(kMaxYamlNodes) + " values");
+    if (!v.node.IsSequence() && !v.node.IsMap())
+      continue;
+    path.resize(v.depth);
+    for (const YAML::Node& open : path)
+      if (open.is(v.node))
+        throw FormatError("'" + file + "'" + where(v.node) +
+                          ": a value holds an alias of itself");
+    if (v.depth >= kMaxYamlDepth)
+      throw FormatError("'" + file + "'" + where(v.node) + ": nested deeper than " +
+                        std::to_string(kMaxYamlDepth) + " levels");
+    path.push_back(v.node);
+    std::map<std::string, std::size_t> keys; // scalar key -> its line
+    for (const auto& item : v.node) {
+      if (v.node.IsMap()) {
+        // yaml-cpp keeps both entries of a repeated key, and a lookup finds the first.
+        if (item.first.IsScalar()) {
+          const auto [seen, fresh] =
+              keys.emplace(item.first.Scalar(), item.first.Mark().line + 1);
+          if (!fresh)
+            throw FormatError("'" + file + "'" + where(item.first) + ": key '" +
+                              item.first.Scalar() + "' appears twice (first on line " +
+                              std::to_string(seen->second) + ")");
+        }
+        stack.push_back({item.first, v.depth + 1});
+        stack.push_back({item.second, v.depth + 1});
+      } else {
+        stack.push_back({item, v.depth + 1});
+      }
+    }
+  }
+}
+
+} // namespace
+
 YAML::Node YamlReader::parse(const std::string& text) const
 {
+  YAML::Node root;
   try {
-    return YAML::Load(text);
+    root = YAML::Load(text);
   } catch (const YAML::Exception& e) {
     throw FormatError("'" + file_ + "' is not valid YAML: " + e.what());
   }
+  checkDocumentShape(root, file_);
+  return root;
 }
 
 std::string YamlReader::readText(const std::string& path)
@@ -134,6 +211,52 @@ void describeInto(const YAML::Node& node, int depth, std::string& out)
 }
 
 } // namespace
+
+namespace {
+
+void canonicalInto(const YAML::Node& node, std::string& out)
+{
+  switch (node.Type()) {
+  case YAML::NodeType::Undefined:
+  case YAML::NodeType::Null:
+    out += "~";
+    return;
+  case YAML::NodeType::Scalar:
+    out += quoted(node.Scalar());
+    return;
+  case YAML::NodeType::Sequence:
+    out += "[";
+    for (std::size_t i = 0; i < node.size(); ++i) {
+      out += i ? "," : "";
+      canonicalInto(node[i], out);
+    }
+    out += "]";
+    return;
+  case YAML::NodeType::Map: {
+    std::vector<std::pair<std::string, std::string>> items;
+    for (const auto& kv : node) {
+      items.emplace_back();
+      canonicalInto(kv.first, items.back().first);
+      canonicalInto(kv.second, items.back().second);
+    }
+    std::sort(items.begin(), items.end());
+    out += "{";
+    for (std::size_t i = 0; i < items.size(); ++i)
+      out += (i ? "," : "") + items[i].first + ":" + items[i].second;
+    out += "}";
+    return;
+  }
+  }
+}
+
+} // namespace
+
+std::string YamlReader::canonical(const YAML::Node& node)
+{
+  std::string out;
+  canonicalInto(node, out);
+  return out;
+}
 
 std::string YamlReader::describe(const YAML::Node& node)
 {

@@ -20,6 +20,13 @@
 namespace plantnbv {
 namespace io {
 
+/// \brief The deepest nesting of lists and maps a YAML file we read may have (ours need
+/// 5; yaml-cpp's parser stops at 2000, but walking 2000 levels is not our files' shape).
+constexpr std::size_t kMaxYamlDepth = 32;
+/// \brief The most values a document may have with its aliases expanded (a 1 MiB file
+/// holds about 500,000 without aliases).
+constexpr std::size_t kMaxYamlNodes = 4'000'000;
+
 /// \brief Reads the nodes of one YAML document; `file` names it in every message.
 ///
 /// Key paths are written as in the file: "trial.map.resolution", "boxes[2].size"; the
@@ -34,7 +41,11 @@ public:
   explicit YamlReader(std::string file) : file_(std::move(file)) {}
   const std::string& file() const { return file_; }
 
-  /// \brief Parses a document. \throws FormatError "'file' is not valid YAML: ..."
+  /// \brief Parses a document and checks its shape before any reader walks it.
+  /// \throws FormatError "'file' is not valid YAML: ...", or naming the line: a value
+  /// that holds an alias of itself, nesting deeper than kMaxYamlDepth, aliases that
+  /// expand it past kMaxYamlNodes values, a key repeated in one map (YAML forbids it;
+  /// yaml-cpp would keep the first silently).
   YAML::Node parse(const std::string& text) const;
 
   /// \brief The text of the YAML file at `path`, refused over
@@ -88,6 +99,12 @@ public:
   static std::string child(const std::string& path, const std::string& key);
   /// \brief "path[i]".
   static std::string index(const std::string& path, std::size_t i);
+  /// \brief The node's content as one text that ignores how it was written: maps with
+  /// their keys sorted, scalars quoted, aliases expanded; documents that differ only in
+  /// comments, key order, quoting, flow or block style and anchors give the same text
+  /// (numbers are compared as written: 0.003 and 3e-3 differ). \pre parse() checked it.
+  static std::string canonical(const YAML::Node& node);
+
   /// \brief The node as the user wrote it, in flow style, for messages ("nothing" for
   /// a missing or null node); at most 4 levels and about 160 characters, "..." beyond,
   /// so that a value holding an alias of itself gives a short message.
