@@ -105,7 +105,7 @@ void runCampaign(const RunOptions& o)
   if (!o.base_dir.empty())
     f.base_dir = o.base_dir;
   const ResultStore store(o.output_dir);
-  store.create(f.text);
+  store.create(f.text, f.definition.content_fingerprint);
   std::vector<TrialSpec> specs = expandCampaign(f.definition);
   const std::size_t all = specs.size();
   std::size_t tasks = 0;
@@ -192,8 +192,10 @@ void statusCampaign(const std::string& dir)
   scenario::CampaignFile f;
   const StoreStatus s = scenario::campaignDirectoryStatus(dir, &f);
   std::cout << "campaign '" << f.definition.name << "': " << s.total << " trials, "
-            << s.done << " done, " << s.failed << " failed, " << s.missing
-            << " missing\n";
+            << s.done << " done, " << s.failed << " failed, " << s.missing << " missing";
+  if (s.foreign)
+    std::cout << " (" << s.foreign << " of them files of another campaign, run again)";
+  std::cout << "\n";
   const std::size_t shown = std::min<std::size_t>(s.failed_ids.size(), 20);
   for (std::size_t i = 0; i < shown; ++i)
     std::cout << "failed: " << s.failed_ids[i] << ": " << s.failed_errors[i] << "\n";

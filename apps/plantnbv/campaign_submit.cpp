@@ -23,11 +23,11 @@
 #include <CLI/CLI.hpp>
 
 #include <plantnbv/common/error.h>
+#include <plantnbv/common/file_io.h>
 #include <plantnbv/experiment/campaign.h>
 #include <plantnbv/experiment/result_store.h>
 #include <plantnbv/experiment/slurm_array.h>
 #include <plantnbv/scenario/campaign_file.h>
-
 
 namespace plantnbv {
 namespace app {
@@ -68,15 +68,6 @@ std::string readText(const fs::path& path)
   std::stringstream s;
   s << in.rdbuf();
   return s.str();
-}
-
-void writeText(const fs::path& path, const std::string& text)
-{
-  std::ofstream out(path);
-  out << text;
-  out.close();
-  if (!out)
-    throw IoError("cannot write '" + path.string() + "'");
 }
 
 bool onPath(const std::string& program)
@@ -214,12 +205,12 @@ void submitCampaign(const SubmitOptions& o)
   const scenario::CampaignFile f = scenario::loadCampaignFile(o.file);
   const fs::path dir = absolutePath(o.output_dir);
   const ResultStore store(dir);
-  store.create(f.text);
+  store.create(f.text, f.definition.content_fingerprint);
   const std::vector<TrialSpec> specs = expandCampaign(f.definition);
   std::vector<std::string> to_run;
   std::size_t failed = 0;
   for (const TrialSpec& spec : specs) {
-    const TrialState state = store.state(spec.id);
+    const TrialState state = store.state(spec);
     failed += state == TrialState::failed;
     if (state != TrialState::done)
       to_run.push_back(spec.id);
@@ -276,9 +267,9 @@ void submitCampaign(const SubmitOptions& o)
   config.task_file = (submit_dir / kTaskFileName).string();
   config.log_dir = submit_dir.string();
   const std::string script = renderSbatchScript(config);
-  writeText(config.task_file, renderTaskFile(tasks));
+  writeFileAtomically(config.task_file, renderTaskFile(tasks));
   const fs::path script_path = submit_dir / kScriptName;
-  writeText(script_path, script);
+  writeFileAtomically(script_path, script);
 
   const std::string shape = std::to_string(tasks.size()) + " array task" +
                             (tasks.size() == 1 ? "" : "s") + " of up to " +
@@ -304,7 +295,7 @@ void submitCampaign(const SubmitOptions& o)
     throw Error("sbatch " + script_path.string() + " failed (exit " +
                 std::to_string(r.exit_code) + ")" + (err.empty() ? "" : ": " + err));
   const std::string job_id = parseSbatchJobId(r.out);
-  writeText(submit_dir / kJobIdFileName, job_id + "\n");
+  writeFileAtomically(submit_dir / kJobIdFileName, job_id + "\n");
   std::cout << "submitted job " << job_id << ": " << shape
             << "; logs: " << (submit_dir / ("task-" + job_id + "_<task>.out")).string()
             << " and .err; progress: plantnbv campaign status " << dir.string()

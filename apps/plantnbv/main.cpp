@@ -1,7 +1,12 @@
 // plantnbv: one tool, one subcommand per file. Exit codes: 0 success, 1 bad input or a
 // failed operation (one line on stderr), 2 usage error (CLI11's own codes are mapped).
 
+#include <cerrno>
+#include <csignal>
+#include <cstdio>
+#include <cstring>
 #include <iostream>
+#include <new>
 #include <string>
 
 #include <CLI/CLI.hpp>
@@ -38,6 +43,9 @@ void requireDisplayOrReexec()
 
 int main(int argc, char** argv)
 {
+  // Past a file-size limit (ulimit -f) a write then fails with EFBIG and is reported,
+  // naming the file, instead of the process being killed in the middle of it.
+  std::signal(SIGXFSZ, SIG_IGN);
   CLI::App app{
       "plantnbv: attention-driven next-best-view planning for plant reconstruction",
       "plantnbv"};
@@ -68,6 +76,7 @@ int main(int argc, char** argv)
       return 2;
     }
   }
+  const std::string command = argc > 1 ? std::string("plantnbv ") + argv[1] : "plantnbv";
   try {
     app.parse(argc, argv);
   } catch (const CLI::Success& e) { // --help, --version
@@ -78,8 +87,24 @@ int main(int argc, char** argv)
   } catch (const plantnbv::Error& e) {
     std::cerr << "plantnbv: error: " << e.what() << "\n";
     return 1;
-  } catch (const std::exception& e) { // e.g. std::bad_alloc: still one line, no abort
-    std::cerr << "plantnbv: error: " << e.what() << "\n";
+  } catch (const std::bad_alloc&) {
+    // The commands estimate what they allocate and refuse over a cap first; this is
+    // what is left (e.g. a cap set above the machine's memory).
+    std::cerr << "plantnbv: error: " << command
+              << ": out of memory (the inputs and options ask for more than this "
+                 "machine has)\n";
+    return 1;
+  } catch (const std::exception& e) { // still one line, no abort
+    std::cerr << "plantnbv: error: " << command << ": " << e.what() << "\n";
+    return 1;
+  }
+  // What went to standard output must have arrived (a full disk, a closed pipe).
+  errno = 0;
+  std::cout.flush();
+  if (!std::cout || std::fflush(stdout) != 0 || std::ferror(stdout)) {
+    std::cerr << "plantnbv: error: cannot write standard output"
+              << (errno ? std::string(": ") + std::strerror(errno) : std::string())
+              << "\n";
     return 1;
   }
   return 0;

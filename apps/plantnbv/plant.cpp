@@ -11,6 +11,7 @@
 #include <pcl/point_types.h>
 
 #include <plantnbv/common/error.h>
+#include <plantnbv/common/file_io.h>
 #include <plantnbv/common/stopwatch.h>
 #include <plantnbv/io/cloud_io.h>
 #include <plantnbv/io/mesh_io.h>
@@ -35,14 +36,6 @@ struct PlantCommandOptions {
   std::string output_dir;
   std::string snapshot;
 };
-
-void writeText(const std::filesystem::path& path, const std::string& text)
-{
-  std::ofstream out(path);
-  out << text << "\n";
-  if (!out)
-    throw IoError("cannot write '" + path.string() + "'");
-}
 
 std::string summary(const PlacedPlant& placed)
 {
@@ -134,7 +127,7 @@ void runPlant(const PlantCommandOptions& o)
     io::saveMeshPly((dir / geometry_file).string(), plant.mesh);
   else
     io::saveCloud((dir / geometry_file).string(), scanCloud(plant));
-  writeText(dir / "anatomy.json", anatomyToJson(placed.plant));
+  writeFileAtomically(dir / "anatomy.json", anatomyToJson(placed.plant) + "\n");
   // All ROIs in one file (boxes named by level), and one file per level for --roi.
   Roi all;
   const std::vector<EvaluationLevel> levels = scenario::evaluationLevels(placed);

@@ -17,6 +17,7 @@
 #include <pcl/point_types.h>
 
 #include <plantnbv/common/error.h>
+#include <plantnbv/common/file_io.h>
 #include <plantnbv/experiment/trial.h>
 #include <plantnbv/io/cloud_io.h>
 #include <plantnbv/io/frames_folder.h>
@@ -68,7 +69,8 @@ std::string csvNumber(double x)
 
 void writeSteps(const std::filesystem::path& path, const TrialResult& r)
 {
-  std::ofstream out(path);
+  AtomicFile file(path);
+  std::ostream& out = file.stream();
   out << "view,x,y,z,qx,qy,qz,qw,gain,candidates,plan_ms,capture_ms,insert_ms,eval_ms,"
          "occupied_voxels";
   for (const std::string& level : r.level_names)
@@ -90,8 +92,7 @@ void writeSteps(const std::filesystem::path& path, const TrialResult& r)
         out << "," << csvNumber(x);
     out << "\n";
   }
-  if (!out)
-    throw IoError("cannot write '" + path.string() + "'");
+  file.commit();
 }
 
 nlohmann::json summaryJson(const ReconstructOptions& o, const PlacedPlant& placed,
@@ -253,8 +254,9 @@ void runReconstruct(const ReconstructOptions& o)
   trial.run(result);
 
   writeSteps(dir / "steps.csv", result);
-  std::ofstream(dir / "summary.json")
-      << summaryJson(o, placed, config, attention, trial, result).dump(2) << "\n";
+  writeFileAtomically(dir / "summary.json",
+                      summaryJson(o, placed, config, attention, trial, result).dump(2) +
+                          "\n");
   trial.getMap().write((dir / "map.bt").string());
   CloudXYZ occupied;
   trial.getMap().getOccupiedVoxelCentres(occupied);

@@ -157,8 +157,8 @@ TrialRun runTrial(const scenario::PlacedPlant& placed, const std::string& planne
 py::dict statusDict(const StoreStatus& s)
 {
   return py::dict("total"_a = s.total, "done"_a = s.done, "failed"_a = s.failed,
-                  "missing"_a = s.missing, "failed_ids"_a = s.failed_ids,
-                  "failed_errors"_a = s.failed_errors);
+                  "missing"_a = s.missing, "foreign"_a = s.foreign,
+                  "failed_ids"_a = s.failed_ids, "failed_errors"_a = s.failed_errors);
 }
 
 py::dict progressDict(const CampaignProgress& p)
@@ -177,7 +177,7 @@ py::dict runCampaign(const Path& file, const Path& out_dir, int workers,
 {
   const scenario::CampaignFile f = scenario::loadCampaignFile(file.string());
   const ResultStore store(out_dir);
-  store.create(f.text);
+  store.create(f.text, f.definition.content_fingerprint);
   const std::vector<TrialSpec> specs = expandCampaign(f.definition);
   LocalRunner runner(
       store,
@@ -300,9 +300,10 @@ void bindExperiment(py::module_& m)
       "threads (0: all cores), as `plantnbv campaign run`; resumable. progress(dict) is "
       "called at the start, after each trial and about once a second. Returns the "
       "status (as campaign_status). Ctrl-C stops starting trials.");
-  m.def("campaign_status", &campaignStatus, "out_dir"_a,
-        "{total, done, failed, missing, failed_ids, failed_errors} of a campaign "
-        "directory.");
+  m.def(
+      "campaign_status", &campaignStatus, "out_dir"_a,
+      "{total, done, failed, missing, foreign, failed_ids, failed_errors} of a campaign "
+      "directory.");
   m.def("campaign_report", &campaignReport, "out_dir"_a, "out"_a = py::none(),
         "figures"_a = false,
         "Writes curves.csv and summary.md (and with figures=True the PNG figures, which "

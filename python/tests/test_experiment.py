@@ -89,7 +89,8 @@ def test_a_campaign_runs_resumes_and_reports(tmp_path, cli):
     events = []
     status = pn.run_campaign(file, tmp_path / "run", workers=2,
                              progress=lambda p: events.append(p["event"]))
-    assert status == {"total": 4, "done": 4, "failed": 0, "missing": 0, "failed_ids": [],
+    assert status == {"total": 4, "done": 4, "failed": 0, "missing": 0, "foreign": 0,
+                      "failed_ids": [],
                       "failed_errors": []}
     assert events[0] == "started" and events.count("finished") == 4
     assert pn.campaign_status(tmp_path / "run") == status

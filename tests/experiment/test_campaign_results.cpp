@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <tuple>
 
 #include <gtest/gtest.h>
 
@@ -94,10 +95,10 @@ TEST_F(CampaignResultsTest, StoreWritesOneFilePerTrialAndCountsThem)
   const std::vector<TrialSpec> specs = expandCampaign(smallCampaign());
   ASSERT_EQ(specs.size(), 2u * 2u * 3u);
   const ResultStore store(dir_);
-  store.create("name: small\n");
+  store.create("name: small\n", "f1");
   EXPECT_EQ(slurp(dir_ / "campaign.yaml"), "name: small\n");
-  store.create("name: small\n"); // the same campaign again: fine
-  EXPECT_THROW(store.create("name: other\n"), InvalidArgumentError);
+  store.create("name: small\n", "f1"); // the same campaign again: fine
+  EXPECT_THROW(store.create("name: other\n", "f2"), InvalidArgumentError);
 
   TrialResult r;
   fakeTrial(specs[0], r);
@@ -105,9 +106,9 @@ TEST_F(CampaignResultsTest, StoreWritesOneFilePerTrialAndCountsThem)
   store.writeFailure(specs[1], "cannot read 'gone.dae'");
   EXPECT_EQ(store.resultPath(specs[0].id).filename().string(),
             "main+nbv-leaf-nodes+plant00+yaw000+rep0.json");
-  EXPECT_EQ(store.state(specs[0].id), TrialState::done);
-  EXPECT_EQ(store.state(specs[1].id), TrialState::failed);
-  EXPECT_EQ(store.state(specs[2].id), TrialState::missing);
+  EXPECT_EQ(store.state(specs[0]), TrialState::done);
+  EXPECT_EQ(store.state(specs[1]), TrialState::failed);
+  EXPECT_EQ(store.state(specs[2]), TrialState::missing);
   // A half-written temporary file of a killed run is not a result.
   std::ofstream(dir_ / "trials" / (".x.json.tmp.1.2")) << "{\"id\":";
   std::ofstream(store.resultPath(specs[3].id))
@@ -139,7 +140,7 @@ TEST_F(CampaignResultsTest, RunnerSkipsDoneTrialsAndRecordsFailures)
 {
   const std::vector<TrialSpec> specs = expandCampaign(smallCampaign());
   const ResultStore store(dir_);
-  store.create("x");
+  store.create("x", "f");
   std::atomic<int> calls{0};
   auto run = [&](const TrialSpec& t, TrialResult& r) {
     ++calls;
@@ -155,7 +156,7 @@ TEST_F(CampaignResultsTest, RunnerSkipsDoneTrialsAndRecordsFailures)
   EXPECT_EQ(p.ran, specs.size());
   EXPECT_EQ(p.failed, 1u);
   EXPECT_EQ(store.status(specs).done, specs.size() - 1);
-  EXPECT_EQ(store.state(specs[4].id), TrialState::failed);
+  EXPECT_EQ(store.state(specs[4]), TrialState::failed);
   ASSERT_FALSE(events.empty());
   EXPECT_EQ(events.front().event, CampaignProgress::Event::started);
   int finished = 0;
@@ -184,19 +185,166 @@ TEST_F(CampaignResultsTest, RunnerSkipsDoneTrialsAndRecordsFailures)
   calls = 0;
   p = runner.run(specs);
   EXPECT_EQ(calls.load(), 0);
-  EXPECT_EQ(store.state(specs[0].id), TrialState::missing);
+  EXPECT_EQ(store.state(specs[0]), TrialState::missing);
 }
 
 TEST_F(CampaignResultsTest, ResultsAreTheSameBytesOnOneAndTwoWorkers)
 {
   const std::vector<TrialSpec> specs = expandCampaign(smallCampaign());
   const ResultStore a(dir_ / "a"), b(dir_ / "b");
-  a.create("x");
-  b.create("x");
+  a.create("x", "f");
+  b.create("x", "f");
   LocalRunner(a, fakeTrial, 1).run(specs);
   LocalRunner(b, fakeTrial, 2).run(specs);
   for (const TrialSpec& t : specs)
     EXPECT_EQ(slurp(a.resultPath(t.id)), slurp(b.resultPath(t.id))) << t.id;
+}
+
+TEST_F(CampaignResultsTest, TheRecordTellsCampaignsApartByContentNotByText)
+{
+  const ResultStore store(dir_);
+  store.create("name: small # first\n", "aaaa");
+  EXPECT_EQ(slurp(dir_ / "campaign.json"), "{\"fingerprint\": \"aaaa\"}\n");
+  // The same content written otherwise (a comment added): the same campaign, and the
+  // copy of the definition the trials were expanded from is kept.
+  store.create("name: small # second\n", "aaaa");
+  EXPECT_EQ(slurp(dir_ / "campaign.yaml"), "name: small # first\n");
+  try {
+    store.create("name: small # first\n", "bbbb");
+    FAIL() << "another fingerprint was accepted";
+  } catch (const InvalidArgumentError& e) {
+    EXPECT_NE(std::string(e.what()).find("holds another campaign"), std::string::npos);
+    EXPECT_NE(std::string(e.what()).find("bbbb"), std::string::npos);
+  }
+  // A directory from before records: its text decides once, then the record.
+  const ResultStore old(dir_ / "old");
+  fs::create_directories(dir_ / "old" / "trials");
+  std::ofstream(dir_ / "old" / "campaign.yaml") << "name: old\n";
+  EXPECT_THROW(old.create("name: other\n", "cccc"), InvalidArgumentError);
+  EXPECT_FALSE(fs::exists(dir_ / "old" / "campaign.json"));
+  old.create("name: old\n", "cccc");
+  EXPECT_EQ(slurp(dir_ / "old" / "campaign.json"),
+            "{\"fingerprint\": \"cccc\", \"legacy_trials\": true}\n");
+}
+
+TEST_F(CampaignResultsTest, ResultsOfAnotherCampaignAreRunAgainAndNotReported)
+{
+  CampaignDefinition ours = smallCampaign(), theirs = smallCampaign();
+  ours.content_fingerprint = "ours";
+  theirs.content_fingerprint = "theirs";
+  const std::vector<TrialSpec> specs = expandCampaign(ours);
+  const std::vector<TrialSpec> other = expandCampaign(theirs);
+  ASSERT_EQ(specs[0].id, other[0].id);
+  ASSERT_NE(specs[0].fingerprint, other[0].fingerprint);
+  // Another seed with the same content changes every trial's fingerprint too.
+  CampaignDefinition reseeded = ours;
+  reseeded.seed = 6;
+  EXPECT_NE(expandCampaign(reseeded)[0].fingerprint, specs[0].fingerprint);
+
+  const ResultStore store(dir_ / "ours"), foreign(dir_ / "theirs");
+  store.create("x", "ours");
+  foreign.create("y", "theirs");
+  LocalRunner(store, fakeTrial, 1).run(specs);
+  LocalRunner(foreign, fakeTrial, 1).run(other);
+  // Their files copied over some of ours, and one without any fingerprint.
+  for (std::size_t i : {0, 3})
+    fs::copy_file(foreign.resultPath(other[i].id), store.resultPath(specs[i].id),
+                  fs::copy_options::overwrite_existing);
+  std::string text = slurp(store.resultPath(specs[5].id));
+  const std::size_t at = text.find("  \"fingerprint\"");
+  ASSERT_NE(at, std::string::npos);
+  text.erase(at, text.find('\n', at) + 1 - at);
+  std::ofstream(store.resultPath(specs[5].id)) << text;
+
+  EXPECT_EQ(store.state(specs[0]), TrialState::foreign);
+  EXPECT_EQ(store.state(specs[5]), TrialState::foreign);
+  EXPECT_EQ(store.state(specs[1]), TrialState::done);
+  const StoreStatus s = store.status(specs);
+  EXPECT_EQ(s.foreign, 3u);
+  EXPECT_EQ(s.missing, 3u);
+  EXPECT_EQ(s.done, specs.size() - 3);
+  try {
+    store.load(specs);
+    FAIL() << "another campaign's result was loaded";
+  } catch (const FormatError& e) {
+    EXPECT_NE(std::string(e.what()).find("another campaign's result"), std::string::npos)
+        << e.what();
+  }
+  // Not one of the campaign's trials at all.
+  std::vector<TrialSpec> fewer(specs.begin() + 1, specs.end());
+  EXPECT_THROW(store.load(fewer), FormatError);
+
+  std::atomic<int> calls{0};
+  LocalRunner(
+      store,
+      [&](const TrialSpec& t, TrialResult& r) {
+        ++calls;
+        fakeTrial(t, r);
+      },
+      1)
+      .run(specs);
+  EXPECT_EQ(calls.load(), 3);
+  EXPECT_EQ(store.status(specs).done, specs.size());
+  EXPECT_EQ(store.load(specs).size(), specs.size());
+}
+
+TEST_F(CampaignResultsTest, TrialFilesWithWrongTypesOrImpossibleValuesAreRefusedByName)
+{
+  const std::vector<TrialSpec> specs = expandCampaign(smallCampaign());
+  const ResultStore store(dir_);
+  store.create("x", "f");
+  TrialResult r;
+  fakeTrial(specs[0], r);
+  store.writeResult(specs[0], r);
+  const fs::path file = store.resultPath(specs[0].id);
+  const std::string good = slurp(file);
+  ASSERT_NO_THROW(ResultStore::loadFile(file));
+  // Each edit replaces the first occurrence of a field's text; what the message names.
+  const std::vector<std::tuple<std::string, std::string, std::string>> edits = {
+      {"\"f1\": ", "\"f1\": \"high\", \"was\": ", "f1"},
+      {"\"f1\": ", "\"f1\": 1.5, \"was\": ", "f1"},
+      {"\"f1\": ", "\"f1\": -0.25, \"was\": ", "f1"},
+      {"\"precision\": ", "\"precision\": true, \"was\": ", "precision"},
+      {"\"recall\": ", "\"recall\": [0.5], \"was\": ", "recall"},
+      {"\"chamfer\": ", "\"chamfer\": 1e308, \"was\": ", "chamfer"},
+      {"\"chamfer\": ", "\"chamfer\": -1, \"was\": ", "chamfer"},
+      {"\"status\": \"done\"", "\"status\": 3", "status"},
+      {"\"status\": \"done\"", "\"status\": \"maybe\"", "status"},
+      {"\"id\": ", "\"id\": 7, \"was\": ", "id"},
+      {"\"yaw_deg\": ", "\"yaw_deg\": \"north\", \"was\": ", "yaw_deg"},
+      {"\"planner\": ", "\"planner\": null, \"was\": ", "planner"},
+      {"\"levels\": [", "\"levels\": [], \"was\": [", "levels"},
+      {"\"fingerprint\": ", "\"fingerprint\": 12, \"was\": ", "fingerprint"},
+  };
+  for (const auto& [from, to, field] : edits) {
+    std::string text = good;
+    const std::size_t at = text.find(from);
+    ASSERT_NE(at, std::string::npos) << from;
+    text.replace(at, from.size(), to);
+    std::ofstream(file) << text;
+    try {
+      ResultStore::loadFile(file);
+      ADD_FAILURE() << "accepted: " << to;
+    } catch (const FormatError& e) {
+      EXPECT_NE(std::string(e.what()).find(file.string()), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find(field), std::string::npos) << e.what();
+    }
+  }
+  // A done trial without views.
+  std::string text = good;
+  const std::size_t views = text.find("\"views\": [");
+  const std::size_t end = text.find("\n  ],", views);
+  ASSERT_NE(end, std::string::npos);
+  text.replace(views, end + 4 - views, "\"views\": [],");
+  std::ofstream(file) << text;
+  EXPECT_THROW(ResultStore::loadFile(file), FormatError);
+  // And the report reads no directory that holds such a file.
+  EXPECT_THROW(store.load(), FormatError);
+  // A directory named like a trial file, or a FIFO: refused by name, without blocking.
+  fs::remove(file);
+  fs::create_directories(file);
+  EXPECT_THROW(store.state(specs[0]), IoError);
+  EXPECT_THROW(store.load(), IoError);
 }
 
 TEST(CampaignChunks, ChunksPartitionTheTrials)

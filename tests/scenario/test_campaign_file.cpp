@@ -81,3 +81,23 @@ TEST(CampaignFile, ErrorsNameTheKeyPath)
             "whole_plant, main_stem, leaf_nodes, fruit or an ROI file, .yaml)");
   EXPECT_THROW(loadCampaignFile("/nonexistent/campaign.yaml"), IoError);
 }
+
+TEST(CampaignFile, TrialFingerprintsFollowTheContentNotTheText)
+{
+  const std::string studies =
+      "studies:\n  - name: main\n    planners: [{type: random}]\n";
+  const auto fingerprint = [](const std::string& text) {
+    return expandCampaign(parseCampaignFile(text, "t.yaml").definition)[0].fingerprint;
+  };
+  const std::string a = fingerprint(kHead + "trial: {gain: {rays_x: 32}}\n" + studies);
+  EXPECT_EQ(a.size(), 16u);
+  // Comments, key order, quoting and flow or block style change nothing.
+  EXPECT_EQ(a, fingerprint("# mine\n" + studies + "trial:\n  gain:\n    rays_x: '32'\n" +
+                           kHead));
+  // What the trials are run with does: the trial config, the plants, the seed, views.
+  EXPECT_NE(a, fingerprint(kHead + "trial: {gain: {rays_x: 48}}\n" + studies));
+  EXPECT_NE(a, fingerprint(kHead + "trial: {gain: {rays_x: 32}}\nseed: 9\n" + studies));
+  EXPECT_NE(a, fingerprint("name: t\nplants: [{seed: 1}]\nyaws_deg: [0]\nviews: 2\n"
+                           "trial: {gain: {rays_x: 32}}\n" +
+                           studies));
+}

@@ -151,14 +151,31 @@ void CampaignDefinition::validate() const
   }
 }
 
-std::uint64_t trialIdHash(const std::string& id)
+namespace {
+
+std::uint64_t fnv1a64(const std::string& text)
 {
   std::uint64_t h = 14695981039346656037ull;
-  for (unsigned char ch : id) {
+  for (unsigned char ch : text) {
     h ^= ch;
     h *= 1099511628211ull;
   }
   return h;
+}
+
+} // namespace
+
+std::uint64_t trialIdHash(const std::string& id)
+{
+  return fnv1a64(id);
+}
+
+std::string contentFingerprint(const std::string& text)
+{
+  char hex[17];
+  std::snprintf(hex, sizeof(hex), "%016llx",
+                static_cast<unsigned long long>(fnv1a64(text)));
+  return hex;
 }
 
 std::vector<TrialSpec> expandCampaign(const CampaignDefinition& d)
@@ -229,6 +246,9 @@ std::vector<TrialSpec> expandCampaign(const CampaignDefinition& d)
                            "/" + (variant.empty() ? std::string() : variant + "/") +
                            t.plant + "/" + yawLabel(yaw) + "/rep" + std::to_string(rep);
                     t.seed = deriveSeed(d.seed, trialIdHash(t.id));
+                    t.fingerprint =
+                        contentFingerprint(d.content_fingerprint + "\n" + t.id + "\n" +
+                                           std::to_string(t.seed));
                     specs.push_back(std::move(t));
                   }
           }

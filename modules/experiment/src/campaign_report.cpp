@@ -9,6 +9,7 @@
 #include <tuple>
 
 #include <plantnbv/common/error.h>
+#include <plantnbv/common/file_io.h>
 #include <plantnbv/experiment/campaign_report.h>
 #include <plantnbv/metrics/reconstruction_metrics.h>
 
@@ -437,7 +438,8 @@ std::vector<CurveRow> campaignCurves(const std::vector<StoredTrial>& trials)
 
 void writeCurvesCsv(const std::filesystem::path& path, const std::vector<CurveRow>& rows)
 {
-  std::ofstream out(path);
+  AtomicFile file(path);
+  std::ostream& out = file.stream();
   out << "study,variant,planner,level,view";
   for (const char* m : kMetricNames)
     out << "," << m << "_mean," << m << "_sd," << m << "_n," << m << "_ci_low," << m
@@ -451,8 +453,7 @@ void writeCurvesCsv(const std::filesystem::path& path, const std::vector<CurveRo
           << csvNumber(s->ci_low) << "," << csvNumber(s->ci_high);
     out << "\n";
   }
-  if (!out)
-    throw IoError("cannot write '" + path.string() + "'");
+  file.commit();
 }
 
 void writeCampaignReport(const std::vector<StoredTrial>& trials,
@@ -464,10 +465,8 @@ void writeCampaignReport(const std::vector<StoredTrial>& trials,
     throw IoError("cannot create '" + out_dir.string() + "': " + ec.message());
   writeCurvesCsv(out_dir / "curves.csv", campaignCurves(trials));
   const Analysis a = analyse(trials);
-  std::ofstream out(out_dir / "summary.md");
-  writeSummary(out, a, title);
-  if (!out)
-    throw IoError("cannot write '" + (out_dir / "summary.md").string() + "'");
+  writeFileAtomically(out_dir / "summary.md",
+                      [&](std::ostream& out) { writeSummary(out, a, title); });
 }
 
 } // namespace plantnbv

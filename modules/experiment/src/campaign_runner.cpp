@@ -28,7 +28,7 @@ CampaignProgress LocalRunner::run(const std::vector<TrialSpec>& specs)
   progress.workers = workers_;
   std::deque<const TrialSpec*> queue;
   for (const TrialSpec& spec : specs)
-    if (store_.state(spec.id) == TrialState::done)
+    if (store_.state(spec) == TrialState::done)
       ++progress.skipped;
     else
       queue.push_back(&spec);

@@ -5,13 +5,13 @@
 #include <fstream>
 #include <functional>
 #include <limits>
+#include <map>
 #include <sstream>
-#include <thread>
-#include <unistd.h>
 
 #include <nlohmann/json.hpp>
 
 #include <plantnbv/common/error.h>
+#include <plantnbv/common/file_io.h>
 #include <plantnbv/experiment/result_store.h>
 
 namespace plantnbv {
@@ -107,11 +107,6 @@ std::string dumpOrdered(const nlohmann::ordered_json& j)
   return out + "\n";
 }
 
-double numberOrNan(const json& j)
-{
-  return j.is_number() ? j.get<double>() : std::numeric_limits<double>::quiet_NaN();
-}
-
 } // namespace
 
 ResultStore::ResultStore(std::filesystem::path dir) : dir_(std::move(dir)) {}
@@ -121,54 +116,78 @@ std::filesystem::path ResultStore::resultPath(const std::string& id) const
   return dir_ / "trials" / fileName(id);
 }
 
-void ResultStore::create(const std::string& definition_text) const
+void ResultStore::create(const std::string& definition_text,
+                         const std::string& fingerprint) const
 {
   std::error_code ec;
   std::filesystem::create_directories(dir_ / "trials", ec);
   if (ec)
     throw IoError("cannot create campaign directory '" + dir_.string() +
                   "': " + ec.message());
-  const std::filesystem::path path = definitionPath();
-  if (std::filesystem::exists(path)) {
-    std::ifstream in(path);
+  const auto another = [&](const std::string& why) {
+    return InvalidArgumentError("'" + dir_.string() + "' holds another campaign (" + why +
+                                "): give another output directory");
+  };
+  const std::filesystem::path record = dir_ / "campaign.json";
+  const std::filesystem::path definition = definitionPath();
+  if (std::filesystem::exists(record)) {
+    requireRegularFile(record);
+    std::string stored;
+    try {
+      std::ifstream in(record);
+      stored = json::parse(in).at("fingerprint").get<std::string>();
+    } catch (const json::exception& e) {
+      throw FormatError("'" + record.string() +
+                        "' is not a campaign record: " + e.what());
+    }
+    if (stored != fingerprint)
+      throw another("its fingerprint " + stored + " is not this definition's " +
+                    fingerprint + "; comments and key order do not count");
+    return;
+  }
+  // A directory of release 0.1.0, which wrote no record and no trial fingerprints: its
+  // text decides, and its trial files stay its own.
+  const bool legacy = std::filesystem::exists(definition);
+  if (legacy) {
+    requireRegularFile(definition);
+    std::ifstream in(definition);
     std::stringstream text;
     text << in.rdbuf();
     if (text.str() != definition_text)
-      throw InvalidArgumentError(
-          "'" + dir_.string() +
-          "' holds another campaign (its campaign.yaml differs from "
-          "this definition): give another output directory");
-    return;
+      throw another("its campaign.yaml differs from this definition");
+  } else {
+    writeFileAtomically(definition, definition_text);
   }
-  writeAtomically(path, definition_text);
+  writeFileAtomically(record, "{\"fingerprint\": \"" + fingerprint + "\"" +
+                                  (legacy ? ", \"legacy_trials\": true" : "") + "}\n");
 }
 
-void ResultStore::writeAtomically(const std::filesystem::path& path,
-                                  const std::string& text) const
+bool ResultStore::acceptsTrialsWithoutFingerprint() const
 {
-  std::ostringstream tmp_name;
-  tmp_name << "." << path.filename().string() << ".tmp." << ::getpid() << "."
-           << std::hash<std::thread::id>()(std::this_thread::get_id());
-  const std::filesystem::path tmp = path.parent_path() / tmp_name.str();
-  std::FILE* f = std::fopen(tmp.c_str(), "wb");
-  if (!f)
-    throw IoError("cannot write '" + tmp.string() + "'");
-  const bool written = std::fwrite(text.data(), 1, text.size(), f) == text.size() &&
-                       std::fflush(f) == 0 && ::fsync(::fileno(f)) == 0;
-  if (std::fclose(f) != 0 || !written) {
-    std::remove(tmp.c_str());
-    throw IoError("cannot write '" + tmp.string() + "'");
+  const std::filesystem::path record = dir_ / "campaign.json";
+  std::error_code ec;
+  if (!std::filesystem::exists(record, ec))
+    return true; // not opened since release 0.1.0
+  try {
+    std::ifstream in(record);
+    return json::parse(in).value("legacy_trials", false);
+  } catch (const json::exception&) {
+    return false;
   }
-  if (std::rename(tmp.c_str(), path.c_str()) != 0) {
-    std::remove(tmp.c_str());
-    throw IoError("cannot rename '" + tmp.string() + "' to '" + path.string() + "'");
-  }
+}
+
+bool ResultStore::isTrialOf(const std::string& file_fingerprint, bool has_fingerprint,
+                            const TrialSpec& spec) const
+{
+  return has_fingerprint ? file_fingerprint == spec.fingerprint
+                         : acceptsTrialsWithoutFingerprint();
 }
 
 void ResultStore::writeResult(const TrialSpec& spec, const TrialResult& r) const
 {
   nlohmann::ordered_json j;
   j["id"] = spec.id;
+  j["fingerprint"] = spec.fingerprint;
   j["spec"] = specJson(spec);
   j["status"] = "done";
   j["levels"] = r.level_names;
@@ -206,29 +225,36 @@ void ResultStore::writeResult(const TrialSpec& spec, const TrialResult& r) const
   j["stopped_early"] = r.stopped_early;
   j["setup_ms"] = r.setup_ms;
   j["total_ms"] = r.total_ms;
-  writeAtomically(resultPath(spec.id), dumpOrdered(j));
+  writeFileAtomically(resultPath(spec.id), dumpOrdered(j));
 }
 
 void ResultStore::writeFailure(const TrialSpec& spec, const std::string& error) const
 {
   nlohmann::ordered_json j;
   j["id"] = spec.id;
+  j["fingerprint"] = spec.fingerprint;
   j["spec"] = specJson(spec);
   j["status"] = "failed";
   j["error"] = error;
-  writeAtomically(resultPath(spec.id), dumpOrdered(j));
+  writeFileAtomically(resultPath(spec.id), dumpOrdered(j));
 }
 
-TrialState ResultStore::state(const std::string& id) const
+TrialState ResultStore::state(const TrialSpec& spec) const
 {
-  std::ifstream in(resultPath(id));
-  if (!in)
+  const std::filesystem::path path = resultPath(spec.id);
+  std::error_code ec;
+  if (!std::filesystem::exists(path, ec))
     return TrialState::missing;
+  requireRegularFile(path); // a FIFO would block the campaign
+  std::ifstream in(path);
   try {
     const json j = json::parse(in);
     const std::string status = j.at("status").get<std::string>();
-    if (j.at("id").get<std::string>() != id)
+    if (j.at("id").get<std::string>() != spec.id)
       return TrialState::missing;
+    if (!isTrialOf(j.value("fingerprint", std::string()), j.contains("fingerprint"),
+                   spec))
+      return TrialState::foreign;
     return status == "done"     ? TrialState::done
            : status == "failed" ? TrialState::failed
                                 : TrialState::missing;
@@ -242,7 +268,7 @@ StoreStatus ResultStore::status(const std::vector<TrialSpec>& specs) const
   StoreStatus s;
   s.total = specs.size();
   for (const TrialSpec& spec : specs) {
-    switch (state(spec.id)) {
+    switch (state(spec)) {
     case TrialState::done:
       ++s.done;
       break;
@@ -257,6 +283,10 @@ StoreStatus ResultStore::status(const std::vector<TrialSpec>& specs) const
       s.failed_errors.push_back(error);
       break;
     }
+    case TrialState::foreign:
+      ++s.foreign;
+      ++s.missing;
+      break;
     case TrialState::missing:
       ++s.missing;
       break;
@@ -265,57 +295,124 @@ StoreStatus ResultStore::status(const std::vector<TrialSpec>& specs) const
   return s;
 }
 
+namespace {
+
+/// Reads the fields of one result file, each checked for its type and its range.
+class TrialFileReader {
+public:
+  explicit TrialFileReader(const std::filesystem::path& path) : path_(path) {}
+
+  [[noreturn]] void fail(const std::string& field, const std::string& message) const
+  {
+    throw FormatError("'" + path_.string() + "' " + field + ": " + message);
+  }
+  const json& at(const json& object, const std::string& parent,
+                 const std::string& key) const
+  {
+    if (!object.is_object() || !object.contains(key))
+      fail(parent.empty() ? key : parent + "." + key, "missing");
+    return object[key];
+  }
+  std::string text(const json& v, const std::string& field) const
+  {
+    if (!v.is_string())
+      fail(field, "expected a string, got " + v.dump());
+    return v.get<std::string>();
+  }
+  double number(const json& v, const std::string& field, double lo, double hi) const
+  {
+    if (!v.is_number() || !(v.get<double>() >= lo && v.get<double>() <= hi))
+      fail(field, "expected a number in [" + ::plantnbv::number(lo) + ", " +
+                      ::plantnbv::number(hi) + "], got " + v.dump());
+    return v.get<double>();
+  }
+  /// A score: null (not defined, e.g. an empty ROI) or a number in [lo, hi].
+  double score(const json& levels, const std::string& parent, const std::string& key,
+               double hi) const
+  {
+    const json& v = at(levels, parent, key);
+    return v.is_null() ? std::numeric_limits<double>::quiet_NaN()
+                       : number(v, parent + "." + key, 0.0, hi);
+  }
+  int integer(const json& v, const std::string& field, int lo, int hi) const
+  {
+    if (!v.is_number_integer() || v.get<long long>() < lo || v.get<long long>() > hi)
+      fail(field, "expected an integer in [" + std::to_string(lo) + ", " +
+                      std::to_string(hi) + "], got " + v.dump());
+    return v.get<int>();
+  }
+
+private:
+  std::filesystem::path path_;
+};
+
+} // namespace
+
 StoredTrial ResultStore::loadFile(const std::filesystem::path& path)
 {
+  requireRegularFile(path);
   std::ifstream in(path);
   if (!in)
     throw IoError("cannot read '" + path.string() + "'");
+  json j;
   try {
-    const json j = json::parse(in);
-    StoredTrial t;
-    t.id = j.at("id").get<std::string>();
-    const json& spec = j.at("spec");
-    t.study = spec.at("study").get<std::string>();
-    t.variant = spec.value("variant", std::string());
-    t.planner = spec.at("planner").get<std::string>();
-    t.plant = spec.at("plant").get<std::string>();
-    t.pattern = spec.contains("pattern") && spec["pattern"].is_number()
-                    ? spec["pattern"].get<int>()
-                    : 0;
-    t.yaw_deg = spec.at("yaw_deg").get<double>();
-    t.repetition = spec.value("repetition", 0);
-    const std::string status = j.at("status").get<std::string>();
-    if (status != "done" && status != "failed")
-      throw FormatError("'" + path.string() + "': status '" + status +
-                        "', expected done or failed");
-    t.failed = status == "failed";
-    if (t.failed) {
-      t.error = j.value("error", std::string());
-      return t;
-    }
-    t.level_names = j.at("levels").get<std::vector<std::string>>();
-    for (const json& v : j.at("views")) {
-      std::vector<LevelScore> scores;
-      const json& levels = v.at("levels");
-      for (const std::string& name : t.level_names) {
-        LevelScore s;
-        const double nan = std::numeric_limits<double>::quiet_NaN();
-        s.precision = s.recall = s.f1 = s.chamfer = nan;
-        if (levels.contains(name)) {
-          const json& l = levels[name];
-          s.precision = numberOrNan(l.value("precision", json()));
-          s.recall = numberOrNan(l.value("recall", json()));
-          s.f1 = numberOrNan(l.value("f1", json()));
-          s.chamfer = numberOrNan(l.value("chamfer", json()));
-        }
-        scores.push_back(s);
-      }
-      t.views.push_back(std::move(scores));
-    }
-    return t;
+    j = json::parse(in);
   } catch (const json::exception& e) {
     throw FormatError("'" + path.string() + "' is not a trial result: " + e.what());
   }
+  const TrialFileReader r(path);
+  if (!j.is_object())
+    r.fail("(top level)", "expected an object, got " + j.dump().substr(0, 80));
+  StoredTrial t;
+  t.id = r.text(r.at(j, "", "id"), "id");
+  t.has_fingerprint = j.contains("fingerprint");
+  if (t.has_fingerprint)
+    t.fingerprint = r.text(j["fingerprint"], "fingerprint");
+  const json& spec = r.at(j, "", "spec");
+  t.study = r.text(r.at(spec, "spec", "study"), "spec.study");
+  t.variant = spec.contains("variant") ? r.text(spec["variant"], "spec.variant") : "";
+  t.planner = r.text(r.at(spec, "spec", "planner"), "spec.planner");
+  t.plant = r.text(r.at(spec, "spec", "plant"), "spec.plant");
+  if (spec.contains("pattern") && !spec["pattern"].is_null())
+    t.pattern = r.integer(spec["pattern"], "spec.pattern", 1, 4);
+  t.yaw_deg = r.number(r.at(spec, "spec", "yaw_deg"), "spec.yaw_deg", -1e6, 1e6);
+  if (spec.contains("repetition"))
+    t.repetition = r.integer(spec["repetition"], "spec.repetition", 0,
+                             std::numeric_limits<int>::max());
+  const std::string status = r.text(r.at(j, "", "status"), "status");
+  if (status != "done" && status != "failed")
+    r.fail("status", "'" + status + "', expected done or failed");
+  t.failed = status == "failed";
+  if (t.failed) {
+    t.error = j.contains("error") ? r.text(j["error"], "error") : "";
+    return t;
+  }
+  const json& levels = r.at(j, "", "levels");
+  if (!levels.is_array() || levels.empty())
+    r.fail("levels", "expected a list of level names, got " + levels.dump());
+  for (std::size_t l = 0; l < levels.size(); ++l)
+    t.level_names.push_back(r.text(levels[l], "levels[" + std::to_string(l) + "]"));
+  const json& views = r.at(j, "", "views");
+  if (!views.is_array() || views.empty())
+    r.fail("views", "expected the list of a done trial's views (at least one), got " +
+                        views.dump().substr(0, 80));
+  for (std::size_t v = 0; v < views.size(); ++v) {
+    const std::string view = "views[" + std::to_string(v) + "]";
+    const json& scores_of = r.at(views[v], view, "levels");
+    std::vector<LevelScore> scores;
+    for (const std::string& name : t.level_names) {
+      const std::string level = view + ".levels." + name;
+      const json& l = r.at(scores_of, view + ".levels", name);
+      LevelScore s;
+      s.precision = r.score(l, level, "precision", 1.0);
+      s.recall = r.score(l, level, "recall", 1.0);
+      s.f1 = r.score(l, level, "f1", 1.0);
+      s.chamfer = r.score(l, level, "chamfer", kMaxStoredChamferM);
+      scores.push_back(s);
+    }
+    t.views.push_back(std::move(scores));
+  }
+  return t;
 }
 
 std::vector<StoredTrial> ResultStore::load() const
@@ -323,18 +420,35 @@ std::vector<StoredTrial> ResultStore::load() const
   std::vector<StoredTrial> trials;
   std::error_code ec;
   for (const auto& entry : std::filesystem::directory_iterator(dir_ / "trials", ec)) {
-    const std::string name = entry.path().filename().string();
-    if (name.empty() || name[0] == '.' || entry.path().extension() != ".json")
-      continue; // temporary files of interrupted writes
-    try {
-      trials.push_back(loadFile(entry.path()));
-    } catch (const Error&) {
-    }
+    if (isAtomicFileTemporary(entry.path()) || entry.path().extension() != ".json")
+      continue;
+    trials.push_back(loadFile(entry.path()));
   }
   if (ec)
     throw IoError("cannot list '" + (dir_ / "trials").string() + "': " + ec.message());
   std::sort(trials.begin(), trials.end(),
             [](const StoredTrial& a, const StoredTrial& b) { return a.id < b.id; });
+  return trials;
+}
+
+std::vector<StoredTrial> ResultStore::load(const std::vector<TrialSpec>& specs) const
+{
+  std::map<std::string, const TrialSpec*> by_id;
+  for (const TrialSpec& spec : specs)
+    by_id[spec.id] = &spec;
+  std::vector<StoredTrial> trials = load();
+  for (const StoredTrial& t : trials) {
+    const auto spec = by_id.find(t.id);
+    const std::string file = "'" + resultPath(t.id).string() + "'";
+    if (spec == by_id.end())
+      throw FormatError(file + ": trial '" + t.id + "' is not one of the campaign in '" +
+                        definitionPath().string() + "': remove it");
+    if (!isTrialOf(t.fingerprint, t.has_fingerprint, *spec->second))
+      throw FormatError(file + " is another campaign's result (fingerprint '" +
+                        t.fingerprint + "', this campaign's trial has '" +
+                        spec->second->fingerprint +
+                        "'): remove it, or `plantnbv campaign run` runs the trial again");
+  }
   return trials;
 }
 

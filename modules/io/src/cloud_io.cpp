@@ -529,7 +529,7 @@ void load(const std::string& path, pcl::PointCloud<PointT>& cloud,
   if (ext != ".pcd" && ext != ".ply")
     throw FormatError(detail::where(path) + "unknown point cloud extension '" + ext +
                       "' (" + kCloudExtensions + ")");
-  detail::requireReadableFile(path);
+  requireRegularFile(path);
   detail::checkFileSize(path, limits);
   // Into a new cloud: the caller's is left as it was if the file is refused.
   pcl::PointCloud<PointT> read;
@@ -571,9 +571,8 @@ template <typename PointT>
 void writeCloudFile(const std::string& path, const std::string& header,
                     const pcl::PointCloud<PointT>& cloud, bool binary)
 {
-  std::ofstream out(path, std::ios::binary | std::ios::trunc);
-  if (!out)
-    throw IoError(detail::where(path) + "cannot open for writing");
+  AtomicFile file(path); // a failed write leaves the previous file whole
+  std::ostream& out = file.stream();
   out << header;
   std::string block;
   for (std::size_t i = 0; i < cloud.size(); ++i) {
@@ -599,9 +598,7 @@ void writeCloudFile(const std::string& path, const std::string& header,
       block.clear();
     }
   }
-  out.close();
-  if (!out)
-    throw IoError(detail::where(path) + "write error");
+  file.commit();
 }
 
 /// A PLY header of one vertex element, nothing else (PCL 1.13's PLYWriter ignores the

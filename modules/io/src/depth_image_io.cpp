@@ -43,8 +43,16 @@ void saveDepthPng(const std::string& path, std::uint32_t width, std::uint32_t he
   image.width = width;
   image.height = height;
   image.format = PNG_FORMAT_LINEAR_Y;
-  if (!png_image_write_to_file(&image, path.c_str(), 0, pixels.data(), 0, nullptr))
-    throw IoError("cannot write depth image '" + path + "': " + image.message);
+  // Encoded in memory, then written whole or not at all.
+  png_alloc_size_t bytes = 0;
+  if (!png_image_write_get_memory_size(image, bytes, 0, pixels.data(), 0, nullptr))
+    throw IoError("cannot encode depth image '" + path + "': " + image.message);
+  std::string encoded(bytes, '\0');
+  if (!png_image_write_to_memory(&image, encoded.data(), &bytes, 0, pixels.data(), 0,
+                                 nullptr))
+    throw IoError("cannot encode depth image '" + path + "': " + image.message);
+  encoded.resize(bytes);
+  writeFileAtomically(path, encoded);
 }
 
 namespace {
@@ -57,7 +65,7 @@ void loadDepthPngOfSize(const std::string& path, std::uint32_t& width,
   if (!(units_per_metre > 0.0) || !std::isfinite(units_per_metre))
     throw InvalidArgumentError("loadDepthPng: units_per_metre must be > 0, got " +
                                std::to_string(units_per_metre));
-  detail::requireReadableFile(path);
+  requireRegularFile(path);
   png_image image{};
   image.version = PNG_IMAGE_VERSION;
   if (!png_image_begin_read_from_file(&image, path.c_str()))

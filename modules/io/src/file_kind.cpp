@@ -18,7 +18,7 @@ namespace {
 /// header is read (it is text in every PLY format).
 bool plyHasFaces(const std::string& path)
 {
-  detail::requireReadableFile(path);
+  requireRegularFile(path);
   std::ifstream in(path, std::ios::binary);
   const detail::PlyHeader header = detail::readPlyHeader(path, in);
   const detail::PlyElement* face = detail::findElement(header, "face");

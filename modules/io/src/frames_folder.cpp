@@ -229,7 +229,8 @@ CameraInfo readCameraInfo(const std::string& path)
 void writeCameraInfo(const std::string& path, const CameraInfo& info)
 {
   const CameraIntrinsics& K = info.intrinsics;
-  std::ofstream out(path);
+  AtomicFile file(path);
+  std::ostream& out = file.stream();
   out << std::setprecision(17);
   out << "# ROS camera_info (as camera_calibration writes it) + depth_scale (plantnbv)\n"
       << "image_width: " << K.width << "\nimage_height: " << K.height
@@ -242,9 +243,7 @@ void writeCameraInfo(const std::string& path, const CameraInfo& info)
       << "projection_matrix:\n  rows: 3\n  cols: 4\n  data: [" << K.fx << ", 0, " << K.cx
       << ", 0, 0, " << K.fy << ", " << K.cy << ", 0, 0, 0, 1, 0]\n"
       << "depth_scale: " << info.depth_scale << "\n";
-  out.close();
-  if (!out)
-    throw IoError("cannot write " + inQuotes(path));
+  file.commit();
 }
 
 std::vector<StampedFile> readTumFileList(const std::string& path)
@@ -455,17 +454,15 @@ void FramesFolderWriter::append(const DepthImage& depth, const Pose& T_W_O,
                   "overwrite it");
   saveDepthPng(png_path, depth.width, depth.height, depth.depth_m, camera_.depth_scale);
 
+  // The list is written again whole with its new line (a few bytes a frame beside a
+  // depth PNG): a failed write leaves the list as it was, never a torn last line.
   const auto appendLine = [&](const std::string& file, const char* header,
                               const std::string& line) {
     const std::string path = (dir / file).string();
-    const bool fresh = !fs::exists(path, ec);
-    std::ofstream out(path, std::ios::app);
-    if (fresh)
-      out << header;
-    out << line << '\n';
-    out.close();
-    if (!out)
-      throw IoError("cannot append to " + inQuotes(path));
+    std::string text = header;
+    if (fs::exists(path, ec))
+      text = detail::readFileToString(path, defaultInputLimits());
+    writeFileAtomically(path, text + line + '\n');
   };
   const std::string stamp = formatStamp(stamp_s);
   const Eigen::Vector3d& t = T_W_O.position;

@@ -8,26 +8,11 @@
 #include <system_error>
 
 #include <plantnbv/common/error.h>
+#include <plantnbv/common/file_io.h>
 
 namespace plantnbv {
 namespace io {
 namespace detail {
-
-void requireReadableFile(const std::string& path)
-{
-  std::error_code ec;
-  const auto status = std::filesystem::status(path, ec);
-  if (ec || !std::filesystem::exists(status))
-    throw FileNotFoundError(where(path) + "no such file");
-  if (std::filesystem::is_directory(status))
-    throw IoError(where(path) + "is a directory, expected a file");
-  // Opening a FIFO blocks until something writes to it; a device can be endless.
-  if (!std::filesystem::is_regular_file(status))
-    throw IoError(where(path) + "is not a regular file (a FIFO, socket or device)");
-  std::ifstream in(path, std::ios::binary);
-  if (!in)
-    throw IoError(where(path) + "cannot open for reading");
-}
 
 void checkFileSize(const std::string& path, const InputLimits& limits)
 {
@@ -49,7 +34,7 @@ void checkLimit(const std::string& path, std::uint64_t count, const char* what,
 
 std::string readFileToString(const std::string& path, const InputLimits& limits)
 {
-  requireReadableFile(path);
+  requireRegularFile(path);
   checkFileSize(path, limits);
   std::ifstream in(path, std::ios::binary);
   std::ostringstream content;

@@ -7,15 +7,13 @@
 
 #include <Eigen/Core>
 
+#include <plantnbv/common/file_io.h>
 #include <plantnbv/common/triangle_mesh.h>
 #include <plantnbv/io/input_limits.h>
 
 namespace plantnbv {
 namespace io {
 namespace detail {
-
-/// Throws IoError naming the path unless it names a readable regular file.
-void requireReadableFile(const std::string& path);
 
 /// Throws FormatError naming the path and the cap if the file is larger than
 /// limits.max_file_bytes (checked before the file is read).

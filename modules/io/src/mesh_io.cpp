@@ -548,7 +548,7 @@ TriangleMesh loadMesh(const std::string& path, const MeshLoadOptions& options)
     throw FormatError(detail::where(path) + "unknown mesh extension '" + ext + "' (" +
                       kMeshExtensions + ")");
   const InputLimits& limits = options.limits;
-  detail::requireReadableFile(path);
+  requireRegularFile(path);
   detail::checkFileSize(path, limits);
 
   // The file's own conventions: Collada says them, VRML is Y up, the rest Z up in metres.

@@ -142,7 +142,7 @@ void readFaces(const std::string& path, const PlyElement& e, PlyBody& body,
 /// Little-endian serialisation into a buffer flushed to the file in large blocks.
 class LittleEndianWriter {
 public:
-  explicit LittleEndianWriter(std::ofstream& out) : out_(out) { buffer_.reserve(kBlock); }
+  explicit LittleEndianWriter(std::ostream& out) : out_(out) { buffer_.reserve(kBlock); }
   ~LittleEndianWriter() { flush(); }
 
   void u8(std::uint8_t v) { put(&v, 1); }
@@ -174,7 +174,7 @@ private:
     if (buffer_.size() >= kBlock)
       flush();
   }
-  std::ofstream& out_;
+  std::ostream& out_;
   std::vector<char> buffer_;
 };
 
@@ -184,7 +184,7 @@ namespace detail {
 
 TriangleMesh readPlyMesh(const std::string& path, const InputLimits& limits)
 {
-  requireReadableFile(path);
+  requireRegularFile(path);
   checkFileSize(path, limits);
   std::ifstream in(path, std::ios::binary);
   const PlyHeader header = readPlyHeader(path, in);
@@ -222,9 +222,8 @@ void saveMeshPly(const std::string& path, const TriangleMesh& mesh)
     throw FormatError(detail::where(path) +
                       "refusing to write an invalid mesh: " + e.what());
   }
-  std::ofstream out(path, std::ios::binary | std::ios::trunc);
-  if (!out)
-    throw IoError(detail::where(path) + "cannot open for writing");
+  AtomicFile file(path); // a failed write leaves the previous file whole
+  std::ostream& out = file.stream();
   out << "ply\n"
       << "format binary_little_endian 1.0\n"
       << "comment written by plantnbv\n"
@@ -250,9 +249,7 @@ void saveMeshPly(const std::string& path, const TriangleMesh& mesh)
         w.u32(static_cast<std::uint32_t>(mesh.labels[t]));
     }
   }
-  out.close();
-  if (!out)
-    throw IoError(detail::where(path) + "write error");
+  file.commit();
 }
 
 } // namespace io

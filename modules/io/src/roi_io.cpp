@@ -150,13 +150,7 @@ void saveRoi(const std::string& path, const Roi& roi)
     out << "center: " << yamlVector(b.center) << "\n";
     out << "    size: " << yamlVector(b.size) << "\n";
   }
-  std::ofstream file(path, std::ios::binary | std::ios::trunc);
-  if (!file)
-    throw IoError(detail::where(path) + "cannot open for writing");
-  file << out.str();
-  file.close();
-  if (!file)
-    throw IoError(detail::where(path) + "write error");
+  writeFileAtomically(path, out.str());
 }
 
 } // namespace io

@@ -15,6 +15,7 @@
 #include <pcl/point_types.h>
 
 #include <plantnbv/common/error.h>
+#include <plantnbv/common/file_io.h>
 #include <plantnbv/common/voxel_lattice.h>
 #include <plantnbv/octree/octree_conversion.h>
 
@@ -332,12 +333,9 @@ void writeOcTree(const std::string& path, const octomap::OcTree& tree)
   if (ext != ".bt" && ext != ".ot")
     throw FormatError("cannot write octree file '" + path + "': extension '" + ext +
                       "' is neither .bt nor .ot");
-  // Written beside the target and renamed over it: an existing map is replaced whole
-  // or not at all, never left half-written.
-  const std::string partial = path + ".partial";
-  std::ofstream out(partial, std::ios::binary | std::ios::trunc);
-  if (!out)
-    throw IoError("cannot open octree file '" + path + "' for writing");
+  // An existing map is replaced whole or not at all, never left half-written.
+  AtomicFile file(path);
+  std::ostream& out = file.stream();
   // OctoMap's file layout (AbstractOcTree::write, AbstractOccupancyOcTree::writeBinary),
   // written here because the library's writers print to stderr, and writeBinary would
   // turn the caller's tree into maximum likelihood. `res` with the stream's default
@@ -353,18 +351,7 @@ void writeOcTree(const std::string& path, const octomap::OcTree& tree)
       writeBinaryNode(out, tree, tree.getRoot());
   } else
     tree.writeData(out);
-  const bool ok = out.good();
-  out.close();
-  std::error_code ec;
-  if (!ok || out.fail()) {
-    std::filesystem::remove(partial, ec);
-    throw IoError("error while writing octree file '" + path + "'");
-  }
-  std::filesystem::rename(partial, path, ec);
-  if (ec) {
-    std::filesystem::remove(partial, ec);
-    throw IoError("cannot replace octree file '" + path + "': " + ec.message());
-  }
+  file.commit();
 }
 
 } // namespace plantnbv

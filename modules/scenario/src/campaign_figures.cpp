@@ -192,21 +192,25 @@ CampaignReportFiles writeCampaignReportFiles(const fs::path& dir, const fs::path
   if (!fs::is_directory(dir / "trials"))
     throw FileNotFoundError("'" + dir.string() +
                             "' is not a campaign directory (no trials/)");
-  const std::vector<StoredTrial> trials = store.load();
-  if (trials.empty())
-    throw InvalidArgumentError("'" + dir.string() + "' holds no trial results yet");
+  // With the campaign's definition, each file is checked to be one of its trials' own.
   CampaignReportFiles r;
-  r.trials = trials.size();
-  r.failed = std::size_t(std::count_if(trials.begin(), trials.end(),
-                                       [](const StoredTrial& t) { return t.failed; }));
   std::string title = "Campaign " + dir.filename().string();
+  std::vector<StoredTrial> trials;
   if (fs::exists(store.definitionPath())) {
     CampaignFile f;
     const StoreStatus s = campaignDirectoryStatus(dir, &f);
     title = "Campaign '" + f.definition.name + "'";
     r.missing = s.missing;
     r.total = s.total;
+    trials = store.load(expandCampaign(f.definition));
+  } else {
+    trials = store.load();
   }
+  if (trials.empty())
+    throw InvalidArgumentError("'" + dir.string() + "' holds no trial results yet");
+  r.trials = trials.size();
+  r.failed = std::size_t(std::count_if(trials.begin(), trials.end(),
+                                       [](const StoredTrial& t) { return t.failed; }));
   writeCampaignReport(trials, out_dir, title);
   r.written = {out_dir / "curves.csv", out_dir / "summary.md"};
   if (figures)

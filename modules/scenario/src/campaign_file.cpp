@@ -247,6 +247,7 @@ CampaignFile parseCampaignFile(const std::string& text, const std::string& path)
   const YamlReader r(path);
   const YAML::Node root = r.parse(f.text);
   CampaignDefinition& d = f.definition;
+  d.content_fingerprint = contentFingerprint(YamlReader::canonical(root));
   d.name = fs::path(path).stem().string();
   bool has_plants = false, has_studies = false;
   r.forEach(root, "",

@@ -1,7 +1,6 @@
-#include <cerrno>
 #include <cstring>
-#include <fstream>
 #include <string>
+#include <string_view>
 
 #include <vtkImageData.h>
 #include <vtkNew.h>
@@ -10,6 +9,7 @@
 #include <vtkUnsignedCharArray.h>
 
 #include <plantnbv/common/error.h>
+#include <plantnbv/common/file_io.h>
 #include <plantnbv/viz/snapshot.h>
 
 namespace plantnbv {
@@ -45,14 +45,9 @@ void writePng(const RgbImage& image, const std::string& png_path)
     throw Error("VTK could not encode a " + std::to_string(image.width) + " x " +
                 std::to_string(image.height) + " PNG");
 
-  std::ofstream out(png_path, std::ios::binary | std::ios::trunc);
-  if (!out)
-    throw IoError("cannot write PNG '" + png_path + "': " + std::strerror(errno));
-  out.write(reinterpret_cast<const char*>(png->GetPointer(0)),
-            static_cast<std::streamsize>(png->GetNumberOfValues()));
-  out.close();
-  if (!out)
-    throw IoError("cannot write PNG '" + png_path + "': " + std::strerror(errno));
+  writeFileAtomically(png_path,
+                      std::string_view(reinterpret_cast<const char*>(png->GetPointer(0)),
+                                       std::size_t(png->GetNumberOfValues())));
 }
 
 } // namespace viz

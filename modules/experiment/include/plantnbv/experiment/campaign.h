@@ -56,6 +56,10 @@ struct CampaignDefinition {
   int repetitions = 1;
   std::vector<std::string> levels; ///< evaluation levels; empty: all the plant has
   std::vector<CampaignStudy> studies;
+  /// What the campaign file says, hashed (contentFingerprint of its canonical text:
+  /// comments, key order and quoting do not change it); set by the file's reader, empty
+  /// for a definition built in code. Part of every trial's fingerprint.
+  std::string content_fingerprint;
 
   /// \throws InvalidArgumentError naming the field by its path (e.g.
   /// "studies[1].planners[0].patterns[2]") and the bad value.
@@ -83,10 +87,18 @@ struct TrialSpec {
   double resolution_m = 0.003;
   int views = 10;
   std::uint64_t seed = 0; ///< deriveSeed(campaign seed, hash of the id)
+  /// What determines the trial's result, hashed: the campaign's content_fingerprint,
+  /// the id and the seed. Its result file carries it; a file whose fingerprint differs
+  /// is another campaign's and is not taken as this trial's result.
+  std::string fingerprint;
 };
 
 /// \brief FNV-1a, 64 bits, of a trial id (stable across platforms and runs).
 std::uint64_t trialIdHash(const std::string& id);
+
+/// \brief FNV-1a, 64 bits, of `text` as 16 lower-case hex digits (stable across
+/// platforms and runs; it tells results apart, it is no protection against forgery).
+std::string contentFingerprint(const std::string& text);
 
 /// \brief The most trials a campaign may expand to (the paper's study has 2,760; each
 /// trial is one result file): a few lines of YAML (repetitions: 2000000000) must not

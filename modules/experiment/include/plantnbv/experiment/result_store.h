@@ -12,11 +12,14 @@
 
 namespace plantnbv {
 
-enum class TrialState { missing, done, failed };
+/// \brief A trial's result file: none (or unreadable), done, failed, or foreign: a
+/// file of the trial's id whose fingerprint is another campaign's (run again).
+enum class TrialState { missing, done, failed, foreign };
 
 /// \brief Counts of a campaign's trials against its expansion.
 struct StoreStatus {
   std::size_t total = 0, done = 0, failed = 0, missing = 0;
+  std::size_t foreign = 0;                ///< of `missing`: files of another campaign
   std::vector<std::string> failed_ids;    ///< in expansion order
   std::vector<std::string> failed_errors; ///< their errors
 };
@@ -24,6 +27,8 @@ struct StoreStatus {
 /// \brief A trial read back from its file (what the report needs).
 struct StoredTrial {
   std::string id, study, variant, planner, plant;
+  std::string fingerprint;      ///< TrialSpec::fingerprint it was run for
+  bool has_fingerprint = false; ///< false in files of release 0.1.0
   int pattern = 0;
   double yaw_deg = 0.0;
   int repetition = 0;
@@ -36,45 +41,72 @@ struct StoredTrial {
 
 /// \brief A campaign directory:
 /// - DIR/campaign.yaml: a copy of the definition the trials were expanded from;
+/// - DIR/campaign.json: its record, {"fingerprint": CampaignDefinition::
+///   content_fingerprint}: a definition of another fingerprint is another campaign.
+///   Release 0.1.0 wrote none: such a directory is taken over once its campaign.yaml
+///   holds the same text, with "legacy_trials": true, and its trial files, which have
+///   no fingerprint, stay its own (a file without one elsewhere is foreign);
 /// - DIR/trials/<id with '/' replaced by '+'>.json: one file per finished trial, written
-///   to a temporary file (".<name>.tmp.<pid>.<thread>", ignored when reading) in the
-///   same directory, flushed to disk, then renamed over the final name.
+///   whole or not at all (AtomicFile: a temporary file ".<name>.tmp.*", ignored when
+///   reading, renamed over the final name).
 ///
-/// A trial file holds: id; spec (study, variant, planner, kind, attention, pattern,
-/// plant, simplified, yaw_deg, repetition, candidates, resolution, views, seed); status
+/// A trial file holds: id; fingerprint (TrialSpec::fingerprint); spec (study, variant,
+/// planner, kind, attention, pattern, plant, simplified, yaw_deg, repetition, candidates,
+/// resolution, views, seed); status
 /// ("done" or "failed"); error (failed only); levels (names); views (per view: index,
 /// pose [x, y, z, qx, qy, qz, qw], gain (null for v0), candidates, occupied_voxels, the
 /// timings plan_ms, capture_ms, insert_ms, eval_ms, and per level precision, recall, f1,
 /// chamfer, null when NaN); stopped_early, setup_ms, total_ms. Numbers are written in
 /// their shortest round-trip form, so two runs give the same bytes apart from the keys
 /// that end in "_ms". Thread-safe: trials may be written from several threads.
+/// \brief The largest Chamfer distance a result file may hold (metres; a scene is a few
+/// metres across).
+constexpr double kMaxStoredChamferM = 1000.0;
+
 class ResultStore {
 public:
   explicit ResultStore(std::filesystem::path dir);
   const std::filesystem::path& dir() const { return dir_; }
 
-  /// \brief Creates DIR and DIR/trials and writes DIR/campaign.yaml, or checks that the
-  /// one there holds the same text. \throws IoError if it cannot; InvalidArgumentError
-  /// if DIR holds another campaign.
-  void create(const std::string& definition_text) const;
+  /// \brief Creates DIR and DIR/trials and writes DIR/campaign.yaml and campaign.json,
+  /// or checks that the record there holds the same fingerprint (the copy of the
+  /// definition is then kept as it is: comments and key order may differ). A directory
+  /// without campaign.json (written before fingerprints) must hold the same text.
+  /// \throws IoError if it cannot; InvalidArgumentError if DIR holds another campaign.
+  void create(const std::string& definition_text, const std::string& fingerprint) const;
   /// \brief DIR/campaign.yaml's path.
   std::filesystem::path definitionPath() const { return dir_ / "campaign.yaml"; }
   /// \brief The file of a trial.
   std::filesystem::path resultPath(const std::string& id) const;
 
-  /// \brief missing if there is no readable result file for the id.
-  TrialState state(const std::string& id) const;
+  /// \brief missing if there is no readable result file of spec.id; foreign if its
+  /// fingerprint is not spec.fingerprint.
+  TrialState state(const TrialSpec& spec) const;
   void writeResult(const TrialSpec& spec, const TrialResult& result) const;
   void writeFailure(const TrialSpec& spec, const std::string& error) const;
   StoreStatus status(const std::vector<TrialSpec>& specs) const;
 
-  /// \brief All result files of DIR/trials, sorted by id. Unreadable files are skipped.
+  /// \brief All result files of DIR/trials, sorted by id (temporary files of
+  /// interrupted writes, ".name.tmp...", are not read).
+  /// \throws FormatError naming the first file that loadFile refuses.
   std::vector<StoredTrial> load() const;
-  /// \brief One result file. \throws FormatError if it is not a trial result.
+  /// \brief The same, each checked against the campaign's trials.
+  /// \throws FormatError naming a file whose id is not among `specs` or whose
+  /// fingerprint is not its trial's (another campaign's result: remove it, or `campaign
+  /// run` replaces it), and as load().
+  std::vector<StoredTrial> load(const std::vector<TrialSpec>& specs) const;
+  /// \brief One result file, every field of the right type and every score possible:
+  /// precision, recall and F1 in [0, 1], Chamfer in [0, kMaxStoredChamferM] metres (or
+  /// null), at least one view in a done trial, a level per name.
+  /// \throws IoError if it cannot be read; FormatError naming the file and the field.
   static StoredTrial loadFile(const std::filesystem::path& path);
 
 private:
-  void writeAtomically(const std::filesystem::path& path, const std::string& text) const;
+  /// True where trial files without a fingerprint (release 0.1.0's) are the campaign's
+  /// own: DIR has no campaign.json yet, or its record says legacy_trials.
+  bool acceptsTrialsWithoutFingerprint() const;
+  bool isTrialOf(const std::string& file_fingerprint, bool has_fingerprint,
+                 const TrialSpec& spec) const;
   std::filesystem::path dir_;
 };
 
