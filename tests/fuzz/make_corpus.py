@@ -354,10 +354,27 @@ studies:
 """)
 
 
+def yaml():
+    t = "yaml_document"
+    # Anchors shared without cycles, merge-like reuse, both styles, quoting, a comment.
+    put(t, "anchors.yaml", "base: &b {x: 1, 'y': [2, 3]}\nother: *b\n"
+        "list: [*b, *b, {z: &z [4]}, *z]\n# note\n")
+    put(t, "block.yaml", "a:\n  - b:\n      - c: 1\n        d: \"two\"\n  - [e, {f: ~}]\n"
+        "g: |\n  text\n")
+    # Shapes the checks refuse: a cycle, deep nesting, a repeated key, aliases that
+    # multiply (small enough to stay under the limit here; the fuzzer grows them).
+    put(t, "cycle.yaml", "a: &x [1, {b: *x}]\n")
+    put(t, "deep.yaml", "[" * 40 + "1" + "]" * 40 + "\n")
+    put(t, "repeated.yaml", "k: 1\nm: {k: 2}\nk: 3\n")
+    laughs = "a0: &a0 [x, x, x]\n" + "".join(
+        "a%d: &a%d [*a%d, *a%d, *a%d]\n" % (i, i, i - 1, i - 1, i - 1) for i in range(1, 6))
+    put(t, "laughs.yaml", laughs)
+
+
 if __name__ == "__main__":
     if OUT.exists():
         shutil.rmtree(OUT)
-    for make in [pcd, ply, vrml, assimp, roi, frames, anatomy, campaign]:
+    for make in [pcd, ply, vrml, assimp, roi, frames, anatomy, campaign, yaml]:
         make()
     for d in sorted(OUT.iterdir()):
         print("%-14s %d files" % (d.name, len(list(d.iterdir()))))
