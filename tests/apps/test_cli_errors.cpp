@@ -8,6 +8,7 @@
 #include <functional>
 #include <sstream>
 #include <string>
+#include <sys/stat.h>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -111,6 +112,16 @@ const std::vector<BadCall> kBadCalls = {
      "chunk 0 of 0: expected 0 <= chunk < chunks"},
     {"campaign run-chunk {d}/tiny.yaml -o {d}/c --chunk -1 --chunks 3", 1,
      "chunk -1 of 3: expected 0 <= chunk < chunks"},
+    // YAML that would make a reader recurse, or that says a key twice; what is not a file
+    {"reconstruct --plant 1 --config {d}/self_alias.yaml -o {d}/x", 1,
+     "self_alias.yaml' (line 1): a value holds an alias of itself"},
+    {"reconstruct --plant 1 --config {d}/deep.yaml -o {d}/x", 1, "nested deeper than 32"},
+    {"eval --reference {d}/a.pcd --reconstruction {d}/a.pcd --roi {d}/twice.yaml", 1,
+     "(line 4): key 'size' appears twice (first on line 3)"},
+    {"campaign run {d}/laughs.yaml -o {d}/c", 1, "aliases expand the document"},
+    {"reconstruct --plant 1 --config {d}/dir.yaml -o {d}/x", 1,
+     "dir.yaml: is a directory, expected a file"},
+    {"campaign run {d}/fifo.yaml -o {d}/c", 1, "fifo.yaml: is not a regular file"},
     // integrate: frames folders with one defect each (copies of {d}/good, see the test)
     {"integrate {d}/nocamera -o {d}/m.ot", 1, "nocamera/camera.yaml': no such file"},
     {"integrate {d}/nomatrix -o {d}/m.ot", 1,
@@ -290,6 +301,20 @@ TEST_F(CliTest, EveryBadArgumentOrFileIsOneLineNamingIt)
   write("tiny.yaml", tiny + "      - {type: random}\n");
   write("unknown_key.yaml", tiny + "      - {type: nbv, atention: leaf-nodes}\n");
   write("garbage.yaml", "studies: [unclosed\n");
+  write("self_alias.yaml", "sector: &s {radius: 0.4, rows: [*s]}\n");
+  write("deep.yaml", "sector: " + std::string(40, '[') + std::string(40, ']') + "\n");
+  write("twice.yaml", "boxes:\n  - center: [0, 0, 0]\n    size: [0.1, 0.1, 0.1]\n"
+                      "    size: [1, 1, 1]\n");
+  std::string laughs = tiny + "      - {type: random}\nx0: &x0 [a, a, a, a, a, a, a, a]\n";
+  for (int i = 1; i < 9; ++i)
+    laughs += "x" + std::to_string(i) + ": &x" + std::to_string(i) + " [*x" +
+              std::to_string(i - 1) + ", *x" + std::to_string(i - 1) + ", *x" +
+              std::to_string(i - 1) + ", *x" + std::to_string(i - 1) + ", *x" +
+              std::to_string(i - 1) + ", *x" + std::to_string(i - 1) + ", *x" +
+              std::to_string(i - 1) + ", *x" + std::to_string(i - 1) + "]\n";
+  write("laughs.yaml", laughs);
+  fs::create_directories(path("dir.yaml"));
+  ASSERT_EQ(::mkfifo(path("fifo.yaml").c_str(), 0600), 0);
 
   // A frames folder as `capture` writes it (one 320 x 240 frame; the pose on line 3 of
   // groundtruth.txt, the frame on line 3 of depth.txt), its map, and copies of the
