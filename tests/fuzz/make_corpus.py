@@ -182,6 +182,32 @@ def assimp():
 """)
 
 
+def collada():
+    t = "collada_text"
+    for name in ["plant_cm_yup.dae", "plant_cm_zup.dae"]:
+        put(t, name, (FIXTURES / name).read_bytes())
+    # Node graphs: shared instances (a DAG), a cycle through library_nodes, self-instancing,
+    # nesting, and instances that double at each level.
+    head = ('<?xml version="1.0"?>\n<COLLADA xmlns="http://www.collada.org/2005/11/'
+            'COLLADASchema" version="1.4.1">\n')
+    put(t, "shared.dae", head + '<library_nodes><node id="leaf"/></library_nodes>\n'
+        '<library_visual_scenes><visual_scene id="s"><node id="a">'
+        '<instance_node url="#leaf"/><instance_node url="#leaf"/></node>'
+        '<node id="b"><node id="c"><instance_node url="#a"/></node></node>'
+        '</visual_scene></library_visual_scenes></COLLADA>\n')
+    put(t, "cycle.dae", head + '<library_nodes><node id="x"><instance_node url="#y"/></node>'
+        '<node id="y"><node><instance_node url="#x"/></node></node></library_nodes>\n'
+        '<library_visual_scenes><visual_scene id="s"><node><instance_node url="#x"/>'
+        '</node></visual_scene></library_visual_scenes></COLLADA>\n')
+    put(t, "self.dae", head + '<library_visual_scenes><visual_scene id="s">'
+        '<node id="n"><instance_node url="#n"/></node></visual_scene>'
+        '</library_visual_scenes></COLLADA>\n')
+    doubling = "".join('<node id="d%d"><instance_node url="#d%d"/><instance_node url="#d%d"/>'
+                       '</node>' % (i, i + 1, i + 1) for i in range(8)) + '<node id="d8"/>'
+    put(t, "doubling.dae", head + "<library_nodes>" + doubling + "</library_nodes>\n"
+        "</COLLADA>\n")
+
+
 def roi():
     t = "roi_yaml"
     put(t, "rois.yaml", (FIXTURES / "rois.yaml").read_bytes())
@@ -374,7 +400,7 @@ def yaml():
 if __name__ == "__main__":
     if OUT.exists():
         shutil.rmtree(OUT)
-    for make in [pcd, ply, vrml, assimp, roi, frames, anatomy, campaign, yaml]:
+    for make in [pcd, ply, vrml, assimp, collada, roi, frames, anatomy, campaign, yaml]:
         make()
     for d in sorted(OUT.iterdir()):
         print("%-14s %d files" % (d.name, len(list(d.iterdir()))))

@@ -534,6 +534,11 @@ TriangleMesh readWithAssimp(const std::string& path, const std::string& ext,
 
 } // namespace
 
+void checkColladaText(const std::string& path, const std::string& text)
+{
+  checkColladaForAssimp(path, text);
+}
+
 TriangleMesh loadMesh(const std::string& path, const MeshLoadOptions& options)
 {
   if (!std::isfinite(options.scale) || options.scale < 0.0)

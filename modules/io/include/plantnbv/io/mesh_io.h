@@ -65,6 +65,12 @@ struct MeshLoadOptions {
 /// scale.
 TriangleMesh loadMesh(const std::string& path, const MeshLoadOptions& options = {});
 
+/// \brief The checks loadMesh makes on a Collada file's text before Assimp reads it:
+/// node graphs (cycles through `<instance_node>`, nesting, expansion), arrays, accessors
+/// and index lists that Assimp 5.2.5 would loop on, crash on or read outside of
+/// (docs/reliability.md). \throws FormatError naming `path` and the line.
+void checkColladaText(const std::string& path, const std::string& text);
+
 /// \brief Writes a binary little-endian PLY: vertex x y z (float), face vertex_indices
 /// (uchar count, uint indices) and, when the mesh has labels, face `label` (uint). Node
 /// names are not written. loadMesh reads the file back exactly.
