@@ -1,11 +1,9 @@
 // Files written whole or not at all, and files read only when they are regular files.
 
-#include <csignal>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <string>
-#include <sys/resource.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -14,7 +12,10 @@
 #include <plantnbv/common/error.h>
 #include <plantnbv/common/file_io.h>
 
+#include "file_size_limit.h"
+
 using namespace plantnbv;
+using plantnbv::test::FileSizeLimit;
 namespace fs = std::filesystem;
 
 namespace {
@@ -46,29 +47,6 @@ protected:
         std::distance(fs::directory_iterator(dir_), fs::directory_iterator()));
   }
   fs::path dir_;
-};
-
-/// A file-size limit (what `ulimit -f` sets) for the scope, with SIGXFSZ ignored: writes
-/// past it fail with EFBIG, as on a full disk.
-class FileSizeLimit {
-public:
-  explicit FileSizeLimit(rlim_t bytes)
-  {
-    ::getrlimit(RLIMIT_FSIZE, &saved_);
-    previous_ = std::signal(SIGXFSZ, SIG_IGN);
-    rlimit limit = saved_;
-    limit.rlim_cur = bytes;
-    ::setrlimit(RLIMIT_FSIZE, &limit);
-  }
-  ~FileSizeLimit()
-  {
-    ::setrlimit(RLIMIT_FSIZE, &saved_);
-    std::signal(SIGXFSZ, previous_);
-  }
-
-private:
-  rlimit saved_{};
-  void (*previous_)(int) = nullptr;
 };
 
 } // namespace

@@ -17,6 +17,7 @@
 #include <plantnbv/io/depth_image_io.h>
 #include <plantnbv/io/frames_folder.h>
 
+#include "file_size_limit.h"
 #include "io_test_util.h"
 
 using plantnbv::DepthImage;
@@ -390,6 +391,39 @@ TEST(FramesFolderWriter, AppendsAndReadsBackExactly)
         frames.loadDepth(4, depth);
       },
       std::out_of_range);
+}
+
+TEST(FramesFolderWriter, AFrameThatCannotBeStoredWholeLeavesTheFolderAsItWas)
+{
+  TempDir dir;
+  const std::string folder = dir.file("frames");
+  const CameraInfo camera = smallCamera();
+  FramesFolderWriter writer(folder, camera);
+  for (std::uint32_t i = 0; i < 40; ++i)
+    writer.append(randomDepth(camera, i), randomPose(100 + i), std::nan(""));
+  const std::string poses = readBytes(folder + "/groundtruth.txt");
+  const std::string list = readBytes(folder + "/depth.txt");
+  // The image fits under the limit, the pose list with its new line does not: neither
+  // list changes, and the image, which no list names, is gone again.
+  ASSERT_LT(std::filesystem::file_size(folder + "/depth/000000.png") + 512, poses.size());
+  try {
+    const plantnbv::test::FileSizeLimit full(poses.size());
+    writer.append(randomDepth(camera, 40), randomPose(140), std::nan(""));
+    FAIL() << "a frame was stored past the limit";
+  } catch (const IoError& e) {
+    EXPECT_NE(std::string(e.what()).find("groundtruth.txt': File too large"),
+              std::string::npos)
+        << e.what();
+  }
+  EXPECT_EQ(readBytes(folder + "/groundtruth.txt"), poses);
+  EXPECT_EQ(readBytes(folder + "/depth.txt"), list);
+  EXPECT_FALSE(std::filesystem::exists(folder + "/depth/000040.png"));
+  for (const auto& e : std::filesystem::directory_iterator(folder))
+    EXPECT_EQ(e.path().filename().string().find(".tmp."), std::string::npos) << e.path();
+  // With room again, the same writer goes on where it was.
+  EXPECT_EQ(writer.frameCount(), 40u);
+  writer.append(randomDepth(camera, 40), randomPose(140), std::nan(""));
+  EXPECT_EQ(FramesFolder(folder).frames().size(), 41u);
 }
 
 TEST(FramesFolderWriter, RefusesAnotherCamera)

@@ -152,19 +152,29 @@ std::ostream& AtomicFile::stream()
   return *stream_;
 }
 
+void AtomicFile::prepare()
+{
+  if (prepared_)
+    return;
+  prepared_ = true;
+  stream_->flush();
+  if (!buffer_->finish() || !stream_->good()) {
+    ::unlink(temporary_.c_str());
+    committed_ = true; // nothing left to remove
+    throw IoError("cannot write " + quoted(path_) + ": " +
+                  reason(buffer_->error() ? buffer_->error() : EIO));
+  }
+}
+
 void AtomicFile::commit()
 {
   if (committed_)
     return;
-  stream_->flush();
-  int error = 0;
-  if (!buffer_->finish() || !stream_->good())
-    error = buffer_->error() ? buffer_->error() : EIO;
-  else if (::rename(temporary_.c_str(), path_.c_str()) != 0)
-    error = errno;
-  if (error) {
+  prepare();
+  if (::rename(temporary_.c_str(), path_.c_str()) != 0) {
+    const int error = errno;
     ::unlink(temporary_.c_str());
-    committed_ = true; // nothing left to remove
+    committed_ = true;
     throw IoError("cannot write " + quoted(path_) + ": " + reason(error));
   }
   committed_ = true;

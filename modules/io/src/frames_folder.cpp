@@ -6,6 +6,7 @@
 #include <fstream>
 #include <iomanip>
 #include <limits>
+#include <memory>
 #include <sstream>
 
 #include <yaml-cpp/yaml.h>
@@ -454,15 +455,18 @@ void FramesFolderWriter::append(const DepthImage& depth, const Pose& T_W_O,
                   "overwrite it");
   saveDepthPng(png_path, depth.width, depth.height, depth.depth_m, camera_.depth_scale);
 
-  // The list is written again whole with its new line (a few bytes a frame beside a
-  // depth PNG): a failed write leaves the list as it was, never a torn last line.
-  const auto appendLine = [&](const std::string& file, const char* header,
-                              const std::string& line) {
+  // Each list is written again whole with its new line (a few bytes a frame beside a
+  // depth PNG), both prepared before either replaces its file: a full disk leaves the
+  // lists as they were, never a torn line or a pose without its image.
+  const auto withLine = [&](const std::string& file, const char* header,
+                            const std::string& line) {
     const std::string path = (dir / file).string();
-    std::string text = header;
-    if (fs::exists(path, ec))
-      text = detail::readFileToString(path, defaultInputLimits());
-    writeFileAtomically(path, text + line + '\n');
+    auto out = std::make_unique<AtomicFile>(path);
+    out->stream() << (fs::exists(path, ec)
+                          ? detail::readFileToString(path, defaultInputLimits())
+                          : std::string(header))
+                  << line << '\n';
+    return out;
   };
   const std::string stamp = formatStamp(stamp_s);
   const Eigen::Vector3d& t = T_W_O.position;
@@ -470,14 +474,25 @@ void FramesFolderWriter::append(const DepthImage& depth, const Pose& T_W_O,
   std::ostringstream pose;
   pose << stamp << std::setprecision(17) << ' ' << t.x() << ' ' << t.y() << ' ' << t.z()
        << ' ' << q.x() << ' ' << q.y() << ' ' << q.z() << ' ' << q.w();
-  appendLine("groundtruth.txt",
-             "# T_W_O: the depth camera's optical frame (z forward, x right, y down) in "
-             "the world (z up)\n# timestamp tx ty tz qx qy qz qw\n",
-             pose.str());
-  appendLine("depth.txt",
-             "# depth images (16-bit PNG, depth_scale units per metre in "
-             "camera.yaml)\n# timestamp filename\n",
-             stamp + ' ' + name);
+  try {
+    const auto poses =
+        withLine("groundtruth.txt",
+                 "# T_W_O: the depth camera's optical frame (z forward, x right, y down) "
+                 "in the world (z up)\n# timestamp tx ty tz qx qy qz qw\n",
+                 pose.str());
+    const auto frames =
+        withLine("depth.txt",
+                 "# depth images (16-bit PNG, depth_scale units per metre "
+                 "in camera.yaml)\n# timestamp filename\n",
+                 stamp + ' ' + name);
+    poses->prepare();
+    frames->prepare();
+    poses->commit();
+    frames->commit();
+  } catch (const Error&) {
+    fs::remove(png_path, ec); // unlisted, it would stop the next frame
+    throw;
+  }
   ++count_;
   last_stamp_s_ = stamp_s;
 }

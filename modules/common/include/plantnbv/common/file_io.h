@@ -40,7 +40,12 @@ public:
 
   /// \brief Where the content goes (binary: nothing is translated).
   std::ostream& stream();
-  /// \brief Makes the content the file at `path`.
+  /// \brief Writes what is buffered, fsyncs and closes the temporary file, but renames
+  /// nothing yet: files that belong together (a list and its index) are all prepared
+  /// before the first is committed, so that a full disk leaves every one as it was.
+  /// \throws IoError naming `path` and the system's reason.
+  void prepare();
+  /// \brief Makes the content the file at `path` (prepare() first if not done).
   /// \throws IoError naming `path` and the system's reason.
   void commit();
 
@@ -49,7 +54,7 @@ private:
   std::filesystem::path path_, temporary_;
   std::unique_ptr<Buffer> buffer_;
   std::unique_ptr<std::ostream> stream_;
-  bool committed_ = false;
+  bool prepared_ = false, committed_ = false;
 };
 
 /// \brief AtomicFile in one call: `write` fills the stream. \throws IoError as
