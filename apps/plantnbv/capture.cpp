@@ -7,6 +7,7 @@
 #include <limits>
 #include <memory>
 #include <optional>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -15,6 +16,7 @@
 #include <pcl/point_types.h>
 
 #include <plantnbv/common/error.h>
+#include <plantnbv/common/memory_cap.h>
 #include <plantnbv/common/stopwatch.h>
 #include <plantnbv/experiment/plant_scene.h>
 #include <plantnbv/io/cloud_io.h>
@@ -23,6 +25,7 @@
 #include <plantnbv/io/frames_folder.h>
 #include <plantnbv/octree/occupancy_map.h>
 #include <plantnbv/sensor/simulated_depth_sensor.h>
+#include <plantnbv/session/memory_estimate.h>
 
 #include "cli_checks.h"
 #include "commands.h"
@@ -84,7 +87,18 @@ void runCapture(const CaptureOptions& o)
   if (!o.map.empty())
     map_config.validate(); // before the work, not after
 
-  SimulatedDepthSensor sensor(parseCameraIntrinsics(o.intrinsics));
+  // What the view and the map will take, before anything is allocated.
+  const CameraIntrinsics camera = parseCameraIntrinsics(o.intrinsics);
+  std::ostringstream what;
+  what << "--intrinsics " << camera.width << "x" << camera.height;
+  if (!o.map.empty())
+    what << " and --resolution " << o.resolution_m << " m (map range "
+         << map_config.max_range_m << " m)";
+  requireWithinMemoryCap(o.map.empty() ? estimatedFrameMemoryBytes(camera)
+                                       : estimatedViewMemoryBytes(map_config, camera),
+                         kDefaultMemoryCapBytes, what.str());
+
+  SimulatedDepthSensor sensor(camera);
   std::optional<io::FramesFolderWriter> frames;
   if (!o.frames_out.empty())
     frames.emplace(o.frames_out,

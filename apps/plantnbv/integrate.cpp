@@ -13,12 +13,14 @@
 #include <CLI/CLI.hpp>
 
 #include <plantnbv/common/error.h>
+#include <plantnbv/common/memory_cap.h>
 #include <plantnbv/common/stopwatch.h>
 #include <plantnbv/experiment/trial.h>
 #include <plantnbv/io/file_kind.h>
 #include <plantnbv/io/frames_folder.h>
 #include <plantnbv/scenario/trial_config_file.h>
 #include <plantnbv/session/active_vision_session.h>
+#include <plantnbv/session/memory_estimate.h>
 
 #include "cli_checks.h"
 #include "commands.h"
@@ -110,6 +112,14 @@ void runIntegrate(const IntegrateOptions& o)
   const std::vector<std::size_t> selected =
       selectFrames(o.frame_list, folder.frames().size());
   const io::CameraInfo& camera = folder.camera();
+  // One view's map and frame, before the first frame is read (TrialConfig's rule).
+  std::ostringstream what;
+  what << "the map at " << config.map.resolution_m << " m (range "
+       << config.map.max_range_m << " m) of the " << camera.intrinsics.width << "x"
+       << camera.intrinsics.height << " camera of '" << o.frames << "'";
+  requireWithinMemoryCap(estimatedViewMemoryBytes(config.map, camera.intrinsics),
+                         config.memory_cap_bytes, what.str(),
+                         " (memory_cap_gib in --config raises it)");
 
   ActiveVisionSession session(sessionConfigOf(config));
   if (!o.map_in.empty()) {

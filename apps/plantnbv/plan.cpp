@@ -192,7 +192,11 @@ void runPlan(const PlanOptions& o)
   const bool meets = roiMeetsMap(roi, *session.getMap());
 
   NextBestView next;
-  session.nextBestView(next);
+  try {
+    session.nextBestView(next);
+  } catch (const Error& e) { // e.g. a map too large to plan on: name it
+    throw Error("--map '" + o.map + "': " + e.what());
+  }
   const NextViewResult& r = next.result;
   bool all_zero = true;
   for (const RankedView& v : next.ranking)

@@ -8,8 +8,9 @@
 #include <pcl/point_types.h>
 
 #include <plantnbv/common/error.h>
-#include <plantnbv/common/stopwatch.h>
+#include <plantnbv/common/memory_cap.h>
 #include <plantnbv/common/random.h>
+#include <plantnbv/common/stopwatch.h>
 #include <plantnbv/filters/voxel_grid_filter.h>
 #include <plantnbv/io/cloud_io.h>
 #include <plantnbv/io/file_kind.h>
@@ -91,6 +92,10 @@ void runSample(const SampleOptions& o)
   const std::string ext = io::extensionOf(o.output);
   if (ext != ".pcd" && ext != ".ply")
     throw InvalidArgumentError("--output '" + o.output + "' must end in .pcd or .ply");
+  requireWithinMemoryCap(
+      sampledCloudMemoryBytes(static_cast<double>(o.points),
+                              o.labels ? sizeof(pcl::PointXYZL) : sizeof(pcl::PointXYZ)),
+      kDefaultMemoryCapBytes, "--points " + std::to_string(o.points));
   Stopwatch clock;
   auto mesh = std::make_shared<TriangleMesh>(io::loadMesh(o.mesh));
   std::cout << "loaded " << o.mesh << ": " << mesh->vertices.size() << " vertices, "

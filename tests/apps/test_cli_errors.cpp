@@ -21,6 +21,7 @@ using plantnbv::test::CliTest;
 using plantnbv::test::expectOneLineError;
 using plantnbv::test::kFixtures;
 using plantnbv::test::slurp;
+using plantnbv::test::ToolRun;
 
 namespace {
 
@@ -77,7 +78,8 @@ const std::vector<BadCall> kBadCalls = {
     {"reconstruct --plant 1 --seed -3 -o {d}/x", 2, "--seed"},
     {"sample --mesh {f}/plant_like.ply --points -100 -o {d}/o.pcd", 2, "--points"},
     {"eval --reference {f}/plant_like.ply --reconstruction {f}/plant_like.ply "
-     "--mesh-points -1", 2, "--mesh-points"},
+     "--mesh-points -1",
+     2, "--mesh-points"},
     {"plan --map {d}/m.ot --seed 99999999999999999999", 2, "--seed"},
     // capture
     {"capture -o {d}/v.pcd", 1, "--plant"},
@@ -142,8 +144,7 @@ const std::vector<BadCall> kBadCalls = {
      "cannot decode depth image '{d}/truncated/depth/000000.png'"},
     {"integrate {d}/cutheader -o {d}/m.ot", 1,
      "cutheader/depth/000000.png' is not a PNG file"},
-    {"integrate {d}/nopng -o {d}/m.ot", 1,
-     "{d}/nopng/depth/000009.png: no such file"},
+    {"integrate {d}/nopng -o {d}/m.ot", 1, "{d}/nopng/depth/000009.png: no such file"},
     {"integrate {d}/pose6 -o {d}/m.ot", 1,
      "pose6/groundtruth.txt' line 3: expected 8 numbers "
      "'timestamp tx ty tz qx qy qz qw', got 6"},
@@ -198,6 +199,47 @@ const std::vector<BadCall> kBadCalls = {
     {"plan --map {d}/good.ot --candidates 10", 1,
      "--candidates 10: expected a multiple of the 9 grid cells"},
     {"plan --map {d}/good.ot --json --pose-only", 2, "excludes"},
+    // Tiny inputs that expand to gigabytes: refused up front with the estimate; maps
+    // with a resolution out of range or a NaN node; ROI boxes without volume (the
+    // hand-made files are written below, next to notamap.ot)
+    {"eval --reference {d}/root_leaves.bt --reconstruction {d}/a.pcd", 1,
+     "root_leaves.bt': the octree's occupied voxels of 0.003 m (2.81e+14 points) need "
+     "about 4.19e+06 GiB, over the memory cap of 8 GiB"},
+    {"eval --reference {d}/a.pcd --reconstruction {d}/root.ot", 1,
+     "root.ot': the octree's occupied voxels of 0.005 m (2.81e+14 points) need about"},
+    {"plan --map {d}/root.ot", 1, "--map '{d}/root.ot': InformationGain::update"},
+    {"plan --map {d}/tiny_res.bt", 1,
+     "tiny_res.bt' has resolution 1e-300 m, expected 0.0001 to 10 m"},
+    {"eval --reference {d}/huge_res.bt --reconstruction {d}/a.pcd", 1,
+     "huge_res.bt' has resolution 1e+300 m, expected 0.0001 to 10 m"},
+    {"integrate {d}/good --map-in {d}/nan_res.ot -o {d}/m.ot", 1,
+     "nan_res.ot' has resolution nan m, expected 0.0001 to 10 m"},
+    {"integrate {d}/good --map-in {d}/word_res.ot -o {d}/m.ot", 1,
+     "word_res.ot' has resolution 'fine', expected a number of metres"},
+    {"plan --map {d}/nan_node.ot", 1,
+     "nan_node.ot' holds a node (number 1 from 0) with log-odds nan, expected a finite "
+     "value"},
+    {"capture --plant 1 --resolution 0.0001 --map {d}/m.ot", 1,
+     "--intrinsics 640x480 and --resolution 0.0001 m (map range 0.75 m) need about "
+     "6.16e+03 GiB, over the memory cap of 8 GiB"},
+    {"capture --plant 1 --intrinsics 16384x16384:9000,9000,8191.5,8191.5 --map {d}/m.bt",
+     1,
+     "--intrinsics 16384x16384 and --resolution 0.003 m (map range 0.75 m) need about"},
+    {"capture --plant 1 --resolution 0.00005 --map {d}/m.ot", 1,
+     "resolution_m = 5e-05 must be in [0.0001, 10] (metres)"},
+    {"integrate {d}/good -o {d}/m.ot --resolution 0.0001", 1,
+     "the map at 0.0001 m (range 0.75 m) of the 320x240 camera of '{d}/good' need about"},
+    {"sample --mesh {f}/plant_like.ply --points 1000000000 -o {d}/o.pcd", 1,
+     "--points 1000000000 need about 44.7 GiB, over the memory cap of 8 GiB"},
+    {"sample --mesh {f}/plant_like.ply --labels --points 300000000 -o {d}/o.pcd", 1,
+     "--points 300000000 need about 22.4 GiB"},
+    {"eval --reference {f}/plant_like.ply --reconstruction {d}/a.pcd --mesh-points "
+     "2000000000",
+     1, "the 2000000000 surface samples of '{f}/plant_like.ply' need about"},
+    {"eval --reference {d}/a.pcd --reconstruction {d}/a.pcd --roi {d}/flat.yaml", 1,
+     "flat.yaml' boxes[0].size: expected 3 sizes > 0 (metres), got [0.1, 0, 0.1]"},
+    {"plan --map {d}/good.ot --roi {d}/point.yaml", 1,
+     "point.yaml' boxes[1].size: expected 3 sizes > 0 (metres), got [0, 0, 0]"},
 };
 
 /// The bytes of a PNG (no filter, deflate's stored blocks): `depth` bits per sample,
@@ -305,7 +347,8 @@ TEST_F(CliTest, EveryBadArgumentOrFileIsOneLineNamingIt)
   write("deep.yaml", "sector: " + std::string(40, '[') + std::string(40, ']') + "\n");
   write("twice.yaml", "boxes:\n  - center: [0, 0, 0]\n    size: [0.1, 0.1, 0.1]\n"
                       "    size: [1, 1, 1]\n");
-  std::string laughs = tiny + "      - {type: random}\nx0: &x0 [a, a, a, a, a, a, a, a]\n";
+  std::string laughs =
+      tiny + "      - {type: random}\nx0: &x0 [a, a, a, a, a, a, a, a]\n";
   for (int i = 1; i < 9; ++i)
     laughs += "x" + std::to_string(i) + ": &x" + std::to_string(i) + " [*x" +
               std::to_string(i - 1) + ", *x" + std::to_string(i - 1) + ", *x" +
@@ -367,6 +410,21 @@ TEST_F(CliTest, EveryBadArgumentOrFileIsOneLineNamingIt)
   fs::create_directories(path("empty"));
   write("notamap.ot", "# not a map\n");
   write("notamap.bt", "# not a map\n");
+  // Maps by hand: 8 occupied leaves under the root (2 bytes of .bt data); a .ot whose
+  // root is its one node, occupied (log-odds 1.0f); resolutions out of range; a NaN.
+  const std::string bt = "# Octomap OcTree binary file\nid OcTree\n";
+  const std::string ot = "# Octomap OcTree file\nid OcTree\n";
+  write("root_leaves.bt", bt + "size 9\nres 0.003\ndata\n\xaa\xaa");
+  write("root.ot", ot + "res 0.005\ndata\n" + std::string("\0\0\x80\x3f\0", 5));
+  write("tiny_res.bt", bt + "res 1e-300\ndata\n\xaa\xaa");
+  write("huge_res.bt", bt + "res 1e300\ndata\n\xaa\xaa");
+  write("nan_res.ot", ot + "res nan\ndata\n" + std::string("\0\0\x80\x3f\0", 5));
+  write("word_res.ot", ot + "res fine\ndata\n" + std::string("\0\0\x80\x3f\0", 5));
+  write("nan_node.ot",
+        ot + "res 0.01\ndata\n" + std::string("\0\0\0\0\x01\0\0\xc0\x7f\0", 10));
+  write("flat.yaml", "boxes:\n  - center: [0, 0, 0]\n    size: [0.1, 0, 0.1]\n");
+  write("point.yaml", "boxes:\n  - center: [0, 0, 0]\n    size: [1, 1, 1]\n"
+                      "  - center: [1, 0, 1]\n    size: [0, 0, 0]\n");
   fs::copy_file(path("good.ot"), path("cut.ot"));
   editFile(path("cut.ot"), [](std::string& b) { b.resize(2000); }); // in its data
 
@@ -384,4 +442,108 @@ TEST_F(CliTest, EveryBadArgumentOrFileIsOneLineNamingIt)
     ++cases;
   }
   EXPECT_GE(cases, 30u);
+}
+
+TEST_F(CliTest, DamagedCloudsAndMapsAreOurOneLineWithoutLibraryChatter)
+{
+  // Good clouds and maps, then a family of damaged copies of each: cut at points in the
+  // header and the data, and header lines changed. Each is read by `eval` (clouds and
+  // maps as geometry) or `plan --map`: read whole (exit 0, nothing on stderr), or
+  // refused in one line of ours that names the file: never PCL's or OctoMap's lines.
+  ASSERT_EQ(run("sample --mesh " + kFixtures +
+                "/plant_like.ply --points 500 --labels -o " + path("s.pcd"))
+                .code,
+            0);
+  ASSERT_EQ(run("sample --mesh " + kFixtures + "/plant_like.ply --points 500 -o " +
+                path("s.ply"))
+                .code,
+            0);
+  std::string ascii =
+      "# .PCD v0.7\nVERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\n"
+      "COUNT 1 1 1\nWIDTH 6\nHEIGHT 1\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS 6\n"
+      "DATA ascii\n";
+  for (int i = 0; i < 6; ++i)
+    ascii += std::to_string(0.01 * i) + " 0.02 " + std::to_string(1.0 - 0.01 * i) + "\n";
+  write("t.pcd", ascii);
+  ASSERT_EQ(run("capture --plant 1 --intrinsics l515-320 --frames-out " + path("f")).code,
+            0);
+  for (const std::string map : {"m.bt", "m.ot"})
+    ASSERT_EQ(run("integrate " + path("f") + " -o " + path(map)).code, 0);
+  writeLattice("a.pcd", 0.0f);
+
+  struct Edit {
+    std::string from, to; ///< a header text and what replaces it
+  };
+  const std::vector<std::pair<std::string, std::vector<Edit>>> originals = {
+      {"s.pcd",
+       {{"FIELDS x y z label", "FIELDS x y z"},
+        {"SIZE 4 4 4 4", "SIZE 4 4 3 4"},
+        {"TYPE F F F U", "TYPE F F F Q"},
+        {"COUNT 1 1 1 1", "COUNT 1 1 0 1"},
+        {"WIDTH 500", "WIDTH 501"},
+        {"POINTS 500", "POINTS 5000000"},
+        {"DATA binary", "DATA binary_compressed"},
+        {"DATA binary", "DATA"}}},
+      {"t.pcd",
+       {{"FIELDS x y z", "FIELDS x y z w"},
+        {"POINTS 6", "POINTS 7"},
+        {"WIDTH 6", "WIDTH six"},
+        {"DATA ascii", "DATA text"},
+        {"0.02 1.0", "0.02"}}},
+      {"s.ply",
+       {{"element vertex 500", "element vertex 501"},
+        {"element vertex 500", "element vertex -1"},
+        {"property float x", "property quad x"},
+        {"binary_little_endian", "binary_middle_endian"},
+        {"ply", "plx"}}},
+      {"m.bt",
+       {{"id OcTree", "id ColorOcTree"},
+        {"res ", "res x"},
+        {"size ", "size 1"},
+        {"data\n", "dat\n"},
+        {"# Octomap", "# Octomip"}}},
+      {"m.ot",
+       {{"id OcTree", "id OcTreeStamped"},
+        {"res ", "res -"},
+        {"size ", "size 9"},
+        {"data\n", ""}}},
+  };
+  std::size_t refused = 0, read = 0;
+  for (const auto& [name, edits] : originals) {
+    const std::string good = slurp(path(name));
+    std::vector<std::string> damaged;
+    // The header ends with the line of its last keyword.
+    const bool map = name.back() == 't';
+    std::size_t header = good.find(map                  ? "\ndata\n"
+                                   : name.back() == 'y' ? "end_header"
+                                                        : "DATA");
+    ASSERT_NE(header, std::string::npos) << name;
+    header = good.find('\n', header + 1) + 1;
+    for (const std::size_t at : {header / 2, header + 2, header + 12,
+                                 (header + good.size()) / 2, good.size() - 1})
+      damaged.push_back(good.substr(0, at));
+    for (const Edit& e : edits) {
+      const std::size_t at = good.find(e.from);
+      ASSERT_NE(at, std::string::npos) << name << ": " << e.from;
+      damaged.push_back(good.substr(0, at) + e.to + good.substr(at + e.from.size()));
+    }
+    for (std::size_t k = 0; k < damaged.size(); ++k) {
+      const std::string file = path("d" + std::to_string(k) + "_" + name);
+      std::ofstream(file, std::ios::binary) << damaged[k];
+      for (const std::string args :
+           {"eval --reference " + file + " --reconstruction " + path("a.pcd"),
+            map ? "plan --map " + file : std::string()}) {
+        if (args.empty())
+          continue;
+        SCOPED_TRACE("plantnbv " + args);
+        const ToolRun r = run(args);
+        if (r.code == 0)
+          EXPECT_EQ(r.err, "");
+        else
+          expectOneLineError(r, 1, "d" + std::to_string(k) + "_" + name);
+        ++(r.code == 0 ? read : refused);
+      }
+    }
+  }
+  EXPECT_GE(refused, 60u) << read << " read whole";
 }

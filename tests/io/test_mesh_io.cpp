@@ -1,11 +1,15 @@
+#include <algorithm>
+#include <cmath>
 #include <cstring>
 #include <fstream>
 #include <map>
 #include <sstream>
 
+#include <Eigen/Geometry>
 #include <gtest/gtest.h>
 
 #include <plantnbv/common/error.h>
+#include <plantnbv/common/random.h>
 #include <plantnbv/io/mesh_io.h>
 
 #include "io_test_util.h"
@@ -422,4 +426,101 @@ TEST(MeshIo, Errors)
   // Non-finite vertices are refused.
   EXPECT_THROW(loadMesh(dir.write("nan.obj", "v 0 0 0\nv nan 0 0\nv 0 1 0\nf 1 2 3\n")),
                FormatError);
+}
+
+namespace {
+
+/// Twice the signed area of a 2-D polygon (shoelace).
+double shoelace2(const std::vector<Eigen::Vector2d>& p)
+{
+  double a = 0.0;
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    const Eigen::Vector2d& q = p[(i + 1) % p.size()];
+    a += p[i].x() * q.y() - q.x() * p[i].y();
+  }
+  return a;
+}
+
+double meshArea(const TriangleMesh& m)
+{
+  double a = 0.0;
+  for (std::size_t t = 0; t < m.size(); ++t)
+    a += m.triangleArea(t);
+  return a;
+}
+
+} // namespace
+
+TEST(MeshIo, PolygonFacesGetTheirTrueAreaInEveryFormat)
+{
+  // Star-shaped (non-convex) polygons, stars with spikes that go out and back along a
+  // line (zero width), and polygons folded onto a line (zero area), each in a random
+  // plane: a fan around the first corner overlaps itself on all of them.
+  TempDir dir;
+  plantnbv::Rng rng(19);
+  int files = 0;
+  for (const int n : {4, 5, 8, 31, 200})
+    for (const int kind : {0, 1, 2})
+      for (int rep = 0; rep < 3; ++rep) {
+        std::vector<Eigen::Vector2d> p;
+        for (int i = 0; i < n; ++i) {
+          const double angle = 2.0 * M_PI * i / n;
+          const double r = kind == 2 ? 0.0
+                           : i % 2   ? rng.uniform(0.05, 0.3)
+                                     : rng.uniform(0.5, 1.0);
+          if (kind == 2) // back and forth on the x axis
+            p.emplace_back((i < n / 2 ? i : n - i) / double(n), 0.0);
+          else
+            p.emplace_back(r * std::cos(angle), r * std::sin(angle));
+          if (kind == 1 && i % 7 == 3) { // a spike out and back
+            p.emplace_back(2.0 * p.back());
+            p.emplace_back(p[p.size() - 2]);
+          }
+        }
+        if (rep == 1) // clockwise
+          std::reverse(p.begin(), p.end());
+        const double area = 0.5 * std::abs(shoelace2(p));
+        // A random plane: rotation and offset.
+        const Eigen::Matrix3d R =
+            Eigen::Quaterniond(rng.normal(), rng.normal(), rng.normal(), rng.normal())
+                .normalized()
+                .toRotationMatrix();
+        const Eigen::Vector3d t(rng.uniform(-1, 1), rng.uniform(-1, 1),
+                                rng.uniform(-1, 1));
+        std::ostringstream ply, obj, wrl, points, corners;
+        ply << "ply\nformat ascii 1.0\nelement vertex " << p.size()
+            << "\nproperty float x\nproperty float y\nproperty float z\n"
+               "element face 1\nproperty list uchar int vertex_indices\nend_header\n";
+        ply.precision(9);
+        obj.precision(9);
+        points.precision(9);
+        for (const Eigen::Vector2d& q : p) {
+          const Eigen::Vector3d v = R * Eigen::Vector3d(q.x(), q.y(), 0.0) + t;
+          ply << v.x() << " " << v.y() << " " << v.z() << "\n";
+          obj << "v " << v.x() << " " << v.y() << " " << v.z() << "\n";
+          points << v.x() << " " << v.y() << " " << v.z() << ", ";
+        }
+        ply << p.size();
+        obj << "f";
+        for (std::size_t i = 0; i < p.size(); ++i) {
+          ply << " " << i;
+          obj << " " << i + 1;
+          corners << i << " ";
+        }
+        ply << "\n";
+        obj << "\n";
+        wrl << "#VRML V2.0 utf8\nShape { geometry IndexedFaceSet { coord Coordinate { "
+               "point [ "
+            << points.str() << "] } coordIndex [ " << corners.str() << "-1 ] } }\n";
+        const std::string name = "p" + std::to_string(files++);
+        using Text = std::pair<std::string, std::string>;
+        for (const auto& [ext, text] : {Text{".ply", ply.str()}, Text{".wrl", wrl.str()},
+                                        Text{".obj", obj.str()}}) {
+          if (kind == 2 && ext == ".obj")
+            continue; // Assimp drops faces without area: nothing to compare
+          const TriangleMesh m = loadMesh(dir.write(name + ext, text));
+          EXPECT_NEAR(meshArea(m), area, 1e-5 * (1.0 + area))
+              << ext << " n " << n << " kind " << kind << " rep " << rep;
+        }
+      }
 }

@@ -46,7 +46,7 @@ TEST(RoiIo, SaveLoadRoundTripIsExact)
   TempDir dir;
   Roi roi;
   roi.addBox(Box({0.1 + 0.2, 1.0 / 3.0, -1e-17}, {0.05, 2.0 / 3.0, 1e300}, "main_stem"));
-  roi.addBox(Box({1, 2, 3}, {0, 0, 0}, "odd: name # with \"quotes\" and \\"));
+  roi.addBox(Box({1, 2, 3}, {5e-324, 1e-300, 7}, "odd: name # with \"quotes\" and \\"));
   roi.addBox(Box({-0.0, 5e-324, 123456789.123456789}, {1, 1, 1}));
   roi.addBox(Box({0, 0, 0}, {1, 1, 1}, "null"));
   roi.addBox(Box({0, 0, 0}, {1, 1, 1}, "tab\tand\nnewline"));
@@ -88,8 +88,9 @@ TEST(RoiIo, NegativeSizeNamesTheBoxAndKey)
                                         "    size: [1, 1, 1]\n"
                                         "  - center: [0, 0, 0]\n"
                                         "    size: [0.1, -0.2, 0.3]\n");
-  EXPECT_EQ(msg, "'" + dir.file("rois.yaml") +
-                     "' boxes[2].size: expected 3 non-negative numbers, got [0.1, -0.2, 0.3]");
+  EXPECT_EQ(msg,
+            "'" + dir.file("rois.yaml") +
+                "' boxes[2].size: expected 3 non-negative numbers, got [0.1, -0.2, 0.3]");
 }
 
 TEST(RoiIo, MissingKey)
@@ -103,7 +104,8 @@ TEST(RoiIo, WrongVectorLengthAndNonNumbers)
 {
   TempDir dir;
   std::string msg = roiError(dir, "boxes:\n  - center: [0, 0]\n    size: [1, 1, 1]\n");
-  EXPECT_NE(msg.find("boxes[0].center: expected 3 numbers, got [0, 0]"), std::string::npos)
+  EXPECT_NE(msg.find("boxes[0].center: expected 3 numbers, got [0, 0]"),
+            std::string::npos)
       << msg;
   msg = roiError(dir, "boxes:\n  - center: [0, x, 0]\n    size: [1, 1, 1]\n");
   EXPECT_NE(msg.find("center: expected 3 numbers, got [0, x, 0]"), std::string::npos)
@@ -114,7 +116,8 @@ TEST(RoiIo, WrongVectorLengthAndNonNumbers)
   EXPECT_NE(msg.find("center: expected 3 numbers"), std::string::npos) << msg;
   msg = roiError(dir,
                  "boxes:\n  - name: [a]\n    center: [0, 0, 0]\n    size: [1, 1, 1]\n");
-  EXPECT_NE(msg.find("boxes[0].name: expected a name, got [a]"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("boxes[0].name: expected a name, got [a]"), std::string::npos)
+      << msg;
 }
 
 TEST(RoiIo, UnknownKeysAreRejected)
@@ -122,10 +125,13 @@ TEST(RoiIo, UnknownKeysAreRejected)
   TempDir dir;
   std::string msg = roiError(
       dir, "boxes:\n  - center: [0, 0, 0]\n    size: [1, 1, 1]\n    colour: red\n");
-  EXPECT_NE(msg.find("boxes[0].colour: unknown key (expected one of center, name, size)"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("boxes[0].colour: unknown key (expected one of center, name, size)"),
+            std::string::npos)
+      << msg;
   msg =
       roiError(dir, "boxes:\n  - center: [0, 0, 0]\n    size: [1, 1, 1]\nframe: world\n");
-  EXPECT_NE(msg.find("frame: unknown key (expected one of boxes)"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("frame: unknown key (expected one of boxes)"), std::string::npos)
+      << msg;
 }
 
 TEST(RoiIo, NotYamlAndNoBoxes)
@@ -155,4 +161,24 @@ TEST(RoiIo, MissingFileIsAnIoError)
   const std::string path = dir.file("absent.yaml");
   const std::string msg = thrownMessage<IoError>([&] { loadRoi(path); });
   EXPECT_NE(msg.find(path), std::string::npos) << msg;
+}
+
+TEST(RoiIo, SizesThatAreNotPositiveAreRefusedNamingTheBox)
+{
+  // A box without volume scored F1 = 1 from one point: every side must be > 0.
+  TempDir dir;
+  for (int axis = 0; axis < 3; ++axis)
+    for (const std::string v : {"0", "0.0", "-0", "0e5"}) {
+      std::string sizes[3] = {"0.1", "0.2", "0.3"};
+      sizes[axis] = v;
+      const std::string msg =
+          roiError(dir, "boxes:\n  - center: [0, 0, 0]\n    size: [1, 1, 1]\n"
+                        "  - center: [1, 2, 3]\n    size: [" +
+                            sizes[0] + ", " + sizes[1] + ", " + sizes[2] + "]\n");
+      EXPECT_NE(msg.find("'" + dir.file("rois.yaml") +
+                         "' boxes[1].size: expected 3 "
+                         "sizes > 0 (metres)"),
+                std::string::npos)
+          << msg;
+    }
 }

@@ -622,7 +622,8 @@ TEST(OccupancyMap, ConfigValidationNamesTheField)
     }
   };
   const double nan = std::nan("");
-  for (double v : {0.0, -0.003, nan, std::numeric_limits<double>::infinity()})
+  for (double v : {0.0, -0.003, nan, std::numeric_limits<double>::infinity(), 1e-300,
+                   0.99e-4, 10.01, 1e300})
     expectBad("resolution_m", [v](OccupancyMap::Config& c) { c.resolution_m = v; });
   for (double v : {0.5, 1.0, 0.3, nan})
     expectBad("prob_hit", [v](OccupancyMap::Config& c) { c.prob_hit = v; });

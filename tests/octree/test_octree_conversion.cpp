@@ -1,16 +1,18 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <iomanip>
 #include <limits>
 #include <set>
 #include <sstream>
+#include <sys/stat.h>
 #include <tuple>
 #include <unistd.h>
 
 #include <gtest/gtest.h>
-#include <sys/stat.h>
 #include <octomap/ColorOcTree.h>
 #include <octomap/OcTree.h>
 #include <pcl/point_cloud.h>
@@ -277,7 +279,8 @@ TEST(OctreeConversion, WriteAndReadBtAndOt)
   // Free leaves, unknown children and pruned inner nodes too (a ray's free voxels end
   // in an occupied one); the tree is not pruned, so its codes are mixed.
   octomap::OcTree mixed(res);
-  mixed.insertRay(octomap::point3d(0.0f, 0.0f, 0.0f), octomap::point3d(0.4f, 0.15f, 0.05f));
+  mixed.insertRay(octomap::point3d(0.0f, 0.0f, 0.0f),
+                  octomap::point3d(0.4f, 0.15f, 0.05f));
   mixed.updateNode(octomap::point3d(-0.1f, 0.02f, 0.0f), false);
   ASSERT_GT(mixed.size(), 20u);
   const std::string mixed_path = tempPath("mixed.bt");
@@ -345,32 +348,42 @@ TEST(OctreeConversion, ReadErrors)
   std::filesystem::remove(color_path);
 }
 
+namespace {
+
+/// An OctoMap file written by hand: the header's first line by extension, then `rest`
+/// and "data", then the node data.
+std::string writeOctreeFile(const std::string& name, const std::string& rest,
+                            const std::string& data)
+{
+  const std::string path = tempPath(name);
+  std::ofstream(path, std::ios::binary)
+      << (std::filesystem::path(name).extension() == ".bt"
+              ? "# Octomap OcTree binary file\n"
+              : "# Octomap OcTree file\n")
+      << "id OcTree\n"
+      << rest << "data\n"
+      << data;
+  return path;
+}
+
+std::string formatErrorOf(const std::string& path)
+{
+  std::string what = "no error";
+  try {
+    plantnbv::readOcTree(path);
+  } catch (const plantnbv::FormatError& e) {
+    what = e.what();
+  }
+  std::filesystem::remove(path);
+  return what;
+}
+
+} // namespace
+
 TEST(OctreeConversion, NodeDataDeeperThanTheTreeOrUnlikeTheHeaderIsRefused)
 {
   // OctoMap's readers recurse as deep as the node data says: a chain of inner nodes a
   // few megabytes long overflowed the stack. Each file is refused before OctoMap reads.
-  auto write = [](const std::string& name, const std::string& header_rest,
-                  const std::string& data) {
-    const std::string path = tempPath(name);
-    std::ofstream(path, std::ios::binary)
-        << (std::filesystem::path(name).extension() == ".bt"
-                ? "# Octomap OcTree binary file\n"
-                : "# Octomap OcTree file\n")
-        << "id OcTree\n"
-        << header_rest << "res 0.01\ndata\n"
-        << data;
-    return path;
-  };
-  auto message = [](const std::string& path) {
-    try {
-      plantnbv::readOcTree(path);
-    } catch (const plantnbv::FormatError& e) {
-      std::filesystem::remove(path);
-      return std::string(e.what());
-    }
-    std::filesystem::remove(path);
-    return std::string("no error");
-  };
   // .bt: each inner node's first child is inner (bits 11), its last an occupied leaf.
   auto btChain = [](std::size_t levels) {
     std::string data;
@@ -380,25 +393,30 @@ TEST(OctreeConversion, NodeDataDeeperThanTheTreeOrUnlikeTheHeaderIsRefused)
   };
   // 16 inner nodes (the root at depth 0), a leaf on each, the deepest at depth 16: a
   // valid tree of 32 nodes.
-  const auto valid = plantnbv::readOcTree(write("chain15.bt", "size 32\n", btChain(15)));
+  const auto valid = plantnbv::readOcTree(
+      writeOctreeFile("chain15.bt", "size 32\nres 0.01\n", btChain(15)));
   ASSERT_TRUE(valid);
   EXPECT_EQ(valid->size(), 32u);
-  EXPECT_NE(
-      message(write("chain16.bt", "", btChain(16))).find("deeper than OctoMap's 16"),
-      std::string::npos);
-  EXPECT_NE(message(write("chain1M.bt", "", btChain(1000000))).find("deeper than"),
+  EXPECT_NE(formatErrorOf(writeOctreeFile("chain16.bt", "res 0.01\n", btChain(16)))
+                .find("deeper than OctoMap's 16"),
             std::string::npos);
-  EXPECT_NE(message(write("size.bt", "size 33\n", btChain(15)))
+  EXPECT_NE(formatErrorOf(writeOctreeFile("chain1M.bt", "res 0.01\n", btChain(1000000)))
+                .find("deeper than"),
+            std::string::npos);
+  EXPECT_NE(formatErrorOf(writeOctreeFile("size.bt", "size 33\nres 0.01\n", btChain(15)))
                 .find("holds 32 nodes, its header says size 33"),
             std::string::npos);
-  EXPECT_NE(message(write("cut.bt", "", btChain(15).substr(0, 29))).find("truncated"),
-            std::string::npos);
+  EXPECT_NE(
+      formatErrorOf(writeOctreeFile("cut.bt", "res 0.01\n", btChain(15).substr(0, 29)))
+          .find("truncated"),
+      std::string::npos);
   // .ot: log-odds then child bits; a chain of first children.
   std::string ot;
   for (std::size_t i = 0; i < 17; ++i)
     ot += std::string("\0\0\0\0\x01", 5);
   ot += std::string("\0\0\0\0\0", 5);
-  EXPECT_NE(message(write("chain.ot", "", ot)).find("deeper than OctoMap's 16"),
+  EXPECT_NE(formatErrorOf(writeOctreeFile("chain.ot", "res 0.01\n", ot))
+                .find("deeper than OctoMap's 16"),
             std::string::npos);
 }
 
@@ -451,4 +469,105 @@ TEST(OctreeConversion, CloudToOcTreeRejectsBadInput)
   cloud.push_back(pcl::PointXYZ(1000.0f, 0.0f, 0.0f));
   EXPECT_THROW(plantnbv::cloudToOcTree(cloud, 0.01), plantnbv::InvalidArgumentError);
   EXPECT_NO_THROW(plantnbv::cloudToOcTree(cloud, 0.1));
+}
+
+TEST(OctreeConversion, ResolutionOutsideTheSaneRangeIsRefusedNamingFileAndValue)
+{
+  const std::string leaf("\x02\x00", 2); // the root with one occupied leaf
+  for (const std::string res : {"0", "-0.003", "nan", "-inf", "inf", "1e-300", "9e-5",
+                                "10.5", "1e300", "0.01x", "abc"}) {
+    for (const std::string ext : {".bt", ".ot"}) {
+      const std::string data = ext == ".bt" ? leaf : std::string("\0\0\0\0\0", 5);
+      const std::string path = writeOctreeFile("r" + ext, "res " + res + "\n", data);
+      const std::string what = formatErrorOf(path);
+      EXPECT_NE(what.find(path), std::string::npos) << res << ext << ": " << what;
+      EXPECT_NE(what.find("resolution"), std::string::npos) << res << ext << ": " << what;
+    }
+  }
+  for (const double res :
+       {plantnbv::kMinMapResolutionM, 0.003, 1.0, plantnbv::kMaxMapResolutionM}) {
+    std::ostringstream rest;
+    rest << std::setprecision(17) << "res " << res << "\n";
+    const std::string path = writeOctreeFile("ok.bt", rest.str(), leaf);
+    EXPECT_EQ(plantnbv::readOcTree(path)->getResolution(), res);
+    std::filesystem::remove(path);
+  }
+}
+
+TEST(OctreeConversion, NonFiniteLogOddsInOtAreRefused)
+{
+  for (const float v :
+       {std::numeric_limits<float>::quiet_NaN(), std::numeric_limits<float>::infinity(),
+        -std::numeric_limits<float>::infinity()}) {
+    // The root with one child (bit 0), the child a leaf holding v.
+    char bytes[4];
+    std::memcpy(bytes, &v, 4);
+    const std::string data =
+        std::string("\0\0\0\0\x01", 5) + std::string(bytes, 4) + std::string(1, '\0');
+    const std::string what = formatErrorOf(writeOctreeFile("v.ot", "res 0.01\n", data));
+    EXPECT_NE(what.find("node (number 1 from 0) with log-odds"), std::string::npos)
+        << what;
+  }
+}
+
+TEST(OctreeConversion, PrunedLeavesAreCountedAndRefusedOverTheCapBeforeExpanding)
+{
+  // A chain of inner nodes from the root to depth d - 1, the last with k occupied leaf
+  // children at depth d: k 8^(16 - d) voxels from 2 d bytes of node data.
+  const double cap_points = 4096.0;
+  for (int d = 1; d <= 16; ++d)
+    for (const int k : {1, 3, 8}) {
+      std::string data;
+      for (int i = 1; i < d; ++i)
+        data += std::string("\x03\x00", 2); // child 0 inner
+      unsigned char last[2] = {0, 0};
+      for (int c = 0; c < k; ++c)
+        last[c / 4] = static_cast<unsigned char>(last[c / 4] | 2u << (2 * (c % 4)));
+      data += std::string(reinterpret_cast<const char*>(last), 2);
+      const std::string path = writeOctreeFile("p.bt", "res 0.003\n", data);
+      const auto tree = plantnbv::readOcTree(path);
+      std::filesystem::remove(path);
+      const double expected = k * std::pow(8.0, 16 - d);
+      EXPECT_EQ(plantnbv::occupiedVoxelCount(*tree), expected) << d << " " << k;
+      OccupiedVoxelOptions options;
+      options.memory_cap_bytes = cap_points * sizeof(pcl::PointXYZ);
+      CloudXYZ cloud;
+      if (expected > cap_points) {
+        try {
+          plantnbv::occupiedVoxelCentres(*tree, cloud, options);
+          ADD_FAILURE() << d << " " << k << " expanded";
+        } catch (const plantnbv::InvalidArgumentError& e) {
+          EXPECT_NE(std::string(e.what()).find("over the memory cap"), std::string::npos)
+              << e.what();
+        }
+        EXPECT_TRUE(cloud.empty());
+        // An ROI holding the centres of keys 0 and 1 per axis (the chain of first
+        // children ends at the tree's lowest corner) cuts the count to the ROI's key
+        // range (conservative by one key), and the expansion to its 8 voxels.
+        const double c = (0.5 - 32768) * 0.003 + 0.0015;
+        options.roi.addBox(plantnbv::Box(Eigen::Vector3d(c, c, c),
+                                         Eigen::Vector3d(0.004, 0.004, 0.004)));
+        const double in_roi = plantnbv::occupiedVoxelCount(*tree, options);
+        EXPECT_GE(in_roi, 8.0);
+        EXPECT_LE(in_roi, 3.0 * 3 * 3);
+        plantnbv::occupiedVoxelCentres(*tree, cloud, options);
+        EXPECT_EQ(cloud.size(), 8u) << d << " " << k;
+      } else {
+        plantnbv::occupiedVoxelCentres(*tree, cloud, options);
+        EXPECT_EQ(static_cast<double>(cloud.size()), expected) << d << " " << k;
+      }
+    }
+  // The same one-node tree as a .ot: the root itself a leaf, 8^16 voxels; the default
+  // cap (8 GiB) refuses it.
+  float one = 1.0f;
+  char bytes[4];
+  std::memcpy(bytes, &one, 4);
+  const std::string path =
+      writeOctreeFile("root.ot", "res 0.003\n", std::string(bytes, 4) + '\0');
+  const auto root = plantnbv::readOcTree(path);
+  std::filesystem::remove(path);
+  EXPECT_EQ(plantnbv::occupiedVoxelCount(*root), std::pow(8.0, 16));
+  CloudXYZ cloud;
+  EXPECT_THROW(plantnbv::occupiedVoxelCentres(*root, cloud),
+               plantnbv::InvalidArgumentError);
 }

@@ -14,6 +14,7 @@
 #include <plantnbv/experiment/trial.h>
 #include <plantnbv/planning/view_planner.h>
 #include <plantnbv/sensor/simulated_depth_sensor.h>
+#include <plantnbv/session/memory_estimate.h>
 
 namespace plantnbv {
 
@@ -103,17 +104,12 @@ void TrialConfig::validate() const
         "a finite value >= 0 (units per metre; 0: the sensor's float depth)");
   if (!(memory_cap_bytes > 0.0))
     bad("memory_cap_bytes", std::to_string(memory_cap_bytes), "> 0");
-  const double need = estimatedMemoryBytes();
-  constexpr double kGib = 1024.0 * 1024.0 * 1024.0;
-  if (!(need <= memory_cap_bytes)) {
-    std::ostringstream s;
-    s << std::setprecision(3) << "trial config: map resolution " << map.resolution_m
-      << " m, range " << map.max_range_m << " m, camera " << camera.width << " x "
-      << camera.height << " and " << gain.rays_x << " x " << gain.rays_y
-      << " gain rays need about " << need / kGib << " GiB, over the memory cap of "
-      << memory_cap_bytes / kGib << " GiB (memory_cap_gib raises it)";
-    throw InvalidArgumentError(s.str());
-  }
+  std::ostringstream what;
+  what << std::setprecision(3) << "trial config: map resolution " << map.resolution_m
+       << " m, range " << map.max_range_m << " m, camera " << camera.width << " x "
+       << camera.height << " and " << gain.rays_x << " x " << gain.rays_y << " gain rays";
+  requireWithinMemoryCap(estimatedMemoryBytes(), memory_cap_bytes, what.str(),
+                         " (memory_cap_gib raises it)");
   CylindricalSector s = sector;
   s.axis_base = paperPlantBase(); // replaced by the plant's base; the rest must hold
   s.validate();
@@ -121,17 +117,7 @@ void TrialConfig::validate() const
 
 double TrialConfig::estimatedMemoryBytes() const
 {
-  // A pyramid of the camera's fields of view out to the range: h^3 tan(a/2) tan(b/2) 4/3.
-  const double range = std::min(map.max_range_m, camera.max_range_m);
-  const double frustum_m3 = 4.0 / 3.0 * range * range * range *
-                            std::tan(camera.horizontalFov() / 2) *
-                            std::tan(camera.verticalFov() / 2);
-  const double voxel_m3 = map.resolution_m * map.resolution_m * map.resolution_m;
-  const double map_bytes = frustum_m3 / voxel_m3 * 32.0;
-  // Depth, points and labels of a frame, and the gain's ray directions.
-  const double image_bytes = double(camera.width) * camera.height * 32.0;
-  const double ray_bytes = double(gain.rays_x) * gain.rays_y * 24.0;
-  return map_bytes + image_bytes + ray_bytes;
+  return estimatedViewMemoryBytes(map, camera) + estimatedGainMemoryBytes(gain);
 }
 
 ActiveVisionSession::Config sessionConfigOf(const TrialConfig& c)

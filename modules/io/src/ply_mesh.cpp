@@ -15,6 +15,7 @@
 
 #include "io_util.h"
 #include "ply_format.h"
+#include "polygon_triangulation.h"
 
 namespace plantnbv {
 namespace io {
@@ -39,6 +40,14 @@ int findProperty(const PlyElement& e, const char* name)
 }
 
 constexpr std::uint32_t kMaxPartLabel = static_cast<std::uint32_t>(PartLabel::background);
+
+/// The faces of more than 3 corners, read as fans and cut properly once the vertices are
+/// known (the face element may come first): face f's corners are
+/// corners[begin[f]..begin[f + 1]), its n - 2 triangles start at first_triangle[f].
+struct Polygons {
+  std::vector<std::uint64_t> face, first_triangle, begin{0};
+  std::vector<std::uint32_t> corners;
+};
 
 void readVertices(const std::string& path, const PlyElement& e, PlyBody& body,
                   TriangleMesh& mesh)
@@ -72,7 +81,7 @@ void readVertices(const std::string& path, const PlyElement& e, PlyBody& body,
 }
 
 void readFaces(const std::string& path, const PlyElement& e, PlyBody& body,
-               const InputLimits& limits, TriangleMesh& mesh)
+               const InputLimits& limits, TriangleMesh& mesh, Polygons& polygons)
 {
   int indices = findProperty(e, "vertex_indices");
   if (indices < 0)
@@ -112,8 +121,13 @@ void readFaces(const std::string& path, const PlyElement& e, PlyBody& body,
       } else if (static_cast<int>(i) != indices)
         body.skip(p, "face data");
       else {
-        // A fan around the first vertex; faces with fewer than 3 vertices add nothing.
+        // A fan around the first vertex for now (Polygons); faces with fewer than 3
+        // vertices add nothing.
         const std::uint64_t n = body.readCount(p.count_type, "face data");
+        if (n > 3) {
+          polygons.face.push_back(f);
+          polygons.first_triangle.push_back(mesh.triangles.size());
+        }
         std::uint32_t first = 0, previous = 0;
         for (std::uint64_t k = 0; k < n; ++k) {
           const double idx = body.read(p.type, "face data");
@@ -121,6 +135,8 @@ void readFaces(const std::string& path, const PlyElement& e, PlyBody& body,
             throw FormatError(detail::where(path) + "face " + std::to_string(f) +
                               ": invalid vertex index " + detail::numberText(idx));
           const auto current = static_cast<std::uint32_t>(idx);
+          if (n > 3)
+            polygons.corners.push_back(current);
           if (k == 0)
             first = current;
           else if (k >= 2) {
@@ -132,6 +148,8 @@ void readFaces(const std::string& path, const PlyElement& e, PlyBody& body,
           }
           previous = current;
         }
+        if (n > 3)
+          polygons.begin.push_back(polygons.corners.size());
       }
     }
     if (label >= 0)
@@ -195,13 +213,14 @@ TriangleMesh readPlyMesh(const std::string& path, const InputLimits& limits)
   checkPlyBodySize(path, in, header);
   PlyBody body(path, in, header.format);
   TriangleMesh mesh;
+  Polygons polygons;
   bool have_vertices = false;
   for (const auto& e : header.elements) {
     if (e.name == "vertex") {
       readVertices(path, e, body, mesh);
       have_vertices = true;
     } else if (e.name == "face")
-      readFaces(path, e, body, limits, mesh);
+      readFaces(path, e, body, limits, mesh, polygons);
     else
       for (std::uint64_t i = 0; i < e.count; ++i)
         for (const auto& p : e.properties)
@@ -209,6 +228,26 @@ TriangleMesh readPlyMesh(const std::string& path, const InputLimits& limits)
   }
   if (!have_vertices)
     throw FormatError(where(path) + "no vertex element");
+  // The polygons' fans replaced by triangles of their true area (a fan overlaps itself
+  // on a polygon that is not convex). One with a bad index is left to mesh.validate().
+  std::vector<std::uint32_t> corners;
+  std::vector<std::array<std::uint32_t, 3>> cut;
+  std::uint64_t steps_left = kEarClippingStepsPerFile;
+  for (std::size_t k = 0; k < polygons.face.size(); ++k) {
+    corners.assign(polygons.corners.begin() + polygons.begin[k],
+                   polygons.corners.begin() + polygons.begin[k + 1]);
+    if (std::any_of(corners.begin(), corners.end(),
+                    [&](std::uint32_t c) { return c >= mesh.vertices.size(); }))
+      continue;
+    cut.clear();
+    const PolygonCut done = triangulatePolygon(mesh.vertices, corners, cut, steps_left);
+    if (done != PolygonCut::cut)
+      throw FormatError(where(path) + "face " + std::to_string(polygons.face[k]) + ": " +
+                        untriangulableFace(done, corners.size()));
+    std::copy(cut.begin(), cut.end(),
+              mesh.triangles.begin() +
+                  static_cast<std::ptrdiff_t>(polygons.first_triangle[k]));
+  }
   return mesh;
 }
 

@@ -1,3 +1,4 @@
+#include <algorithm>
 #include <array>
 #include <cctype>
 #include <charconv>
@@ -28,10 +29,8 @@ Box readBox(const YamlReader& r, const YAML::Node& node, const std::string& path
               [&](const YAML::Node& n, const std::string& k) {
                 name = r.read<std::string>(n, k, "a name");
               }},
-             {"center",
-              [&](const YAML::Node& n, const std::string& k) {
-                center = r.readNumbers(n, k, 3);
-              }},
+             {"center", [&](const YAML::Node& n,
+                            const std::string& k) { center = r.readNumbers(n, k, 3); }},
              {"size", [&](const YAML::Node& n, const std::string& k) {
                 size = r.readNumbers(n, k, 3, /*non_negative=*/true);
               }}});
@@ -39,6 +38,11 @@ Box readBox(const YamlReader& r, const YAML::Node& node, const std::string& path
     r.fail(path, "missing key 'center'");
   if (size.empty())
     r.fail(path, "missing key 'size'");
+  // A box without volume holds almost nothing, and a score over it (F1 of one point)
+  // means nothing: every side must be > 0.
+  if (std::any_of(size.begin(), size.end(), [](double v) { return !(v > 0.0); }))
+    r.fail(YamlReader::child(path, "size"),
+           "expected 3 sizes > 0 (metres), got " + YamlReader::describe(node["size"]));
   // Finite numbers can still overflow to an infinite corner (e.g. size 1e308 at 1e308).
   const Box box(Eigen::Vector3d(center[0], center[1], center[2]),
                 Eigen::Vector3d(size[0], size[1], size[2]), name);
@@ -108,7 +112,8 @@ Roi parseRoi(const std::string& path, const std::string& text)
             {{"boxes", [&](const YAML::Node& boxes, const std::string& k) {
                 has_boxes = true;
                 if (!boxes.IsSequence() && !boxes.IsNull())
-                  r.fail(k, "expected a list of boxes, got " + YamlReader::describe(boxes));
+                  r.fail(k,
+                         "expected a list of boxes, got " + YamlReader::describe(boxes));
                 for (std::size_t i = 0; boxes.IsSequence() && i < boxes.size(); ++i)
                   roi.addBox(readBox(r, boxes[i], YamlReader::index(k, i)));
               }}});

@@ -8,10 +8,11 @@
 //
 // Supported: Transform (the full VRML97 matrix T C R SR S -SR -C), Group, Collision,
 // Anchor, Billboard (as a Group), Switch (the chosen child), LOD (the first level),
-// Shape with IndexedFaceSet (polygons triangulated as fans, `ccw` honoured), Box,
+// Shape with IndexedFaceSet (polygons cut to their true area, `ccw` honoured), Box,
 // Cylinder, Cone and Sphere; DEF/USE. Skipped: points, lines, Text, ElevationGrid,
 // Extrusion, Inline (external files) and instances of PROTOs (not expanded).
 
+#include <array>
 #include <charconv>
 #include <cmath>
 #include <limits>
@@ -27,6 +28,7 @@
 #include <plantnbv/common/error.h>
 
 #include "io_util.h"
+#include "polygon_triangulation.h"
 
 namespace plantnbv {
 namespace io {
@@ -648,29 +650,37 @@ private:
         !ccw_field || ccw_field->numbers.empty() || ccw_field->numbers[0] != 0.0;
     if (!ccw)
       flip_ = !flip_;
-    std::int64_t first = -1, previous = -1;
-    std::size_t corner = 0;
+    // A polygon is cut at its end (-1 or the last index): a fan for a convex one, ear
+    // clipping otherwise, so that every face gets its true area.
+    std::vector<std::uint32_t> corners;
+    std::vector<std::array<std::uint32_t, 3>> cut;
+    const auto endPolygon = [&] {
+      cut.clear();
+      const detail::PolygonCut done = detail::triangulatePolygon(
+          mesh_.vertices, corners, cut, ear_clipping_steps_left_);
+      if (done != detail::PolygonCut::cut)
+        throw FormatError(detail::where(path_) + "line " + std::to_string(index->line) +
+                          ": " + detail::untriangulableFace(done, corners.size()));
+      for (const auto& t : cut)
+        addTriangle(t[0], t[1], t[2], id);
+      corners.clear();
+    };
     for (double v : index->numbers) {
       if (v == -1.0) {
-        corner = 0;
+        endPolygon();
         continue;
       }
       if (v < 0 || v >= static_cast<double>(count) || v != std::floor(v))
         throw FormatError(detail::where(path_) + "line " + std::to_string(index->line) +
                           ": coordIndex " + detail::numberText(v) + " is out of range (" +
                           std::to_string(count) + " points)");
-      const auto current = static_cast<std::int64_t>(v);
-      if (corner == 0)
-        first = current;
-      else if (corner >= 2) {
-        const auto a = base + static_cast<std::uint32_t>(first);
-        const auto b = base + static_cast<std::uint32_t>(previous);
-        const auto d = base + static_cast<std::uint32_t>(current);
-        addTriangle(a, b, d, id);
-      }
-      previous = current;
-      ++corner;
+      const std::uint64_t max = limits_.max_triangles;
+      if (max > 0 && corners.size() > max + 2)
+        throw FormatError(detail::where(path_) + "more than " + std::to_string(max) +
+                          " triangles (the limit, InputLimits::max_triangles)");
+      corners.push_back(base + static_cast<std::uint32_t>(v));
     }
+    endPolygon();
   }
 
   void addBox(const Node& g, const Eigen::Affine3d& M, std::uint32_t id)
@@ -750,6 +760,7 @@ private:
 
   const std::string& path_;
   InputLimits limits_;
+  std::uint64_t ear_clipping_steps_left_ = detail::kEarClippingStepsPerFile;
   std::uint64_t instances_ = 0;
   TriangleMesh mesh_;
   std::unordered_map<std::string, std::uint32_t> ids_;

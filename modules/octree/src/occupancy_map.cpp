@@ -525,9 +525,12 @@ private:
 
 void OccupancyMap::Config::validate() const
 {
-  if (!(std::isfinite(resolution_m) && resolution_m > 0.0))
+  if (!(resolution_m >= kMinMapResolutionM && resolution_m <= kMaxMapResolutionM)) {
+    std::ostringstream range;
+    range << "in [" << kMinMapResolutionM << ", " << kMaxMapResolutionM << "] (metres)";
     throw InvalidArgumentError(
-        rangeMessage("resolution_m", resolution_m, "finite and > 0 (metres)"));
+        rangeMessage("resolution_m", resolution_m, range.str().c_str()));
+  }
   if (!inOpen(prob_hit, 0.5, 1.0))
     throw InvalidArgumentError(rangeMessage("prob_hit", prob_hit, "in (0.5, 1)"));
   if (!inOpen(prob_miss, 0.0, 0.5))

@@ -2,8 +2,11 @@
 #include <cctype>
 #include <cmath>
 #include <cstdint>
+#include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <iomanip>
 #include <limits>
 #include <sstream>
 #include <vector>
@@ -65,16 +68,23 @@ void writeBinaryNode(std::ostream& out, const octomap::OcTree& tree,
       writeBinaryNode(out, tree, tree.getNodeChild(node, i));
 }
 
+/// What checkOcTreeNodes found: all nodes, and those with children.
+struct NodeCounts {
+  std::uint64_t nodes = 0;
+  std::uint64_t inner = 0;
+};
+
 /// Walks the node data of an OctoMap file without recursion, as OctoMap's readers will
 /// (depth first, a node's own bytes before its children's), and refuses what they would
 /// recurse into without end or read wrongly: a tree deeper than OctoMap's 16 levels,
 /// data that ends inside a node, and a node count other than the header's `size`
-/// (when it has one). `in` is at the node data and is left after it.
-/// .bt: each inner node is 2 bytes, 2 bits per child (01 occupied leaf, 10 free leaf,
-/// 11 inner node, 00 none). .ot: each node is its float log-odds and a byte of child
-/// bits.
-void checkOcTreeNodes(const std::string& path, std::istream& in, bool binary,
-                      std::uint64_t header_size, bool have_size)
+/// (when it has one), and in a .ot a log-odds that is not finite. `in` is at the node
+/// data and is left after it. .bt: each inner node is 2 bytes, 2 bits per child (01
+/// free leaf, 10 occupied leaf, 11 inner node, 00 none). .ot: each node is its float
+/// log-odds (OctoMap writes the machine's float: little-endian here) and a byte of
+/// child bits.
+NodeCounts checkOcTreeNodes(const std::string& path, std::istream& in, bool binary,
+                            std::uint64_t header_size, bool have_size)
 {
   constexpr int kTreeDepth = 16; // OctoMap's fixed depth: leaves at 16 at the deepest
   std::vector<char> buffer(1 << 16);
@@ -95,7 +105,7 @@ void checkOcTreeNodes(const std::string& path, std::istream& in, bool binary,
                        (binary ? "binary (.bt)" : "(.ot)") +
                        " file: its node data ends inside a node");
   };
-  std::uint64_t nodes = 0;
+  std::uint64_t nodes = 0, inner = 0;
   std::vector<int> pending{0}; // the depths of the nodes still to read, root first
   while (!pending.empty()) {
     const int depth = pending.back();
@@ -116,7 +126,17 @@ void checkOcTreeNodes(const std::string& path, std::istream& in, bool binary,
     } else {
       for (int child = 0; child < 8; ++child)
         children += (bytes[4] >> child) & 1u;
+      float log_odds = 0.0f;
+      static_assert(sizeof(float) == 4, "OctoMap's .ot stores 4-byte floats");
+      std::memcpy(&log_odds, bytes, 4);
+      if (!std::isfinite(log_odds)) {
+        std::ostringstream s;
+        s << "'" << path << "' holds a node (number " << nodes - 1
+          << " from 0) with log-odds " << log_odds << ", expected a finite value";
+        throw FormatError(s.str());
+      }
     }
+    inner += children > 0 || leaves > 0;
     if ((children > 0 || leaves > 0) && depth + 1 > kTreeDepth)
       throw FormatError("'" + path + "' holds a tree deeper than OctoMap's " +
                         std::to_string(kTreeDepth) + " levels");
@@ -128,41 +148,112 @@ void checkOcTreeNodes(const std::string& path, std::istream& in, bool binary,
   if (have_size && nodes != header_size)
     throw FormatError("'" + path + "' holds " + std::to_string(nodes) +
                       " nodes, its header says size " + std::to_string(header_size));
+  return {nodes, inner};
 }
 
 } // namespace
 
-void occupiedVoxelCentres(const octomap::OcTree& tree, CloudXYZ& cloud,
-                          const OccupiedVoxelOptions& options)
-{
-  const double threshold = options.threshold;
-  if (std::isnan(threshold) || threshold > 1.0) {
-    std::ostringstream s;
-    s << "occupiedVoxelCentres: threshold " << threshold
-      << " must be an occupancy probability <= 1 (or < 0 for the tree's own)";
-    throw InvalidArgumentError(s.str());
-  }
-  cloud.clear();
+namespace {
 
-  const unsigned tree_depth = tree.getTreeDepth();
-  const bool use_roi = !options.roi.empty();
-  // Key range (per axis, conservative by one key) that can hold ROI centres: a large
-  // pruned node is then expanded only where the ROI is.
-  std::int64_t roi_lo[3] = {0, 0, 0}, roi_hi[3] = {0, 0, 0};
-  if (use_roi) {
+/// The leaves occupiedVoxelCentres expands and the key ranges it expands them to: one
+/// rule for occupiedVoxelCount (before anything is allocated) and the expansion.
+class OccupiedLeaves {
+public:
+  OccupiedLeaves(const octomap::OcTree& tree, const OccupiedVoxelOptions& options)
+      : tree_(tree), options_(options), depth_(tree.getTreeDepth())
+  {
+    const double threshold = options.threshold;
+    if (std::isnan(threshold) || threshold > 1.0) {
+      std::ostringstream s;
+      s << "occupiedVoxelCentres: threshold " << threshold
+        << " must be an occupancy probability <= 1 (or < 0 for the tree's own)";
+      throw InvalidArgumentError(s.str());
+    }
+    if (options.roi.empty())
+      return;
+    // Key range (per axis, conservative by one key) that can hold ROI centres: a large
+    // pruned node is then expanded only where the ROI is.
     const Box bb = options.roi.boundingBox();
     const double inv = 1.0 / tree.getResolution();
-    const std::int64_t max_val = std::int64_t{1} << (tree_depth - 1); // key of 0.0
+    const std::int64_t max_val = std::int64_t{1} << (depth_ - 1); // key of 0.0
     for (int a = 0; a < 3; ++a) {
-      roi_lo[a] =
+      roi_lo_[a] =
           static_cast<std::int64_t>(std::max(std::floor(bb.min()[a] * inv), -1e9)) +
           max_val - 1;
-      roi_hi[a] =
+      roi_hi_[a] =
           static_cast<std::int64_t>(std::min(std::floor(bb.max()[a] * inv), 1e9)) +
           max_val + 1;
     }
   }
 
+  /// Calls f(iterator, lo, hi) for every occupied leaf with the keys [lo, hi] per axis
+  /// that it expands to (empty when lo > hi on an axis).
+  template <typename F>
+  void forEach(F&& f) const
+  {
+    const double threshold = options_.threshold;
+    for (auto it = tree_.begin_leafs(), end = tree_.end_leafs(); it != end; ++it) {
+      const bool occupied =
+          threshold < 0.0 ? tree_.isNodeOccupied(*it) : it->getOccupancy() > threshold;
+      if (!occupied)
+        continue;
+      // A leaf above the finest level (pruned) spans n keys per axis, and its iterator
+      // key is the one just above its centre (OcTreeKey computeChildKey), so it covers
+      // [key - n / 2, key + n / 2 - 1]; a leaf at the finest level is its own key.
+      const std::int64_t n = std::int64_t{1} << (depth_ - it.getDepth());
+      std::int64_t lo[3], hi[3];
+      for (int a = 0; a < 3; ++a) {
+        lo[a] = static_cast<std::int64_t>(it.getKey()[a]) - n / 2;
+        hi[a] = lo[a] + n - 1;
+        if (!options_.roi.empty()) {
+          lo[a] = std::max(lo[a], roi_lo_[a]);
+          hi[a] = std::min(hi[a], roi_hi_[a]);
+        }
+      }
+      f(it, lo, hi);
+    }
+  }
+
+  /// The voxels forEach visits, without allocating.
+  double count() const
+  {
+    double count = 0.0;
+    forEach([&](const auto&, const std::int64_t* lo, const std::int64_t* hi) {
+      double voxels = 1.0;
+      for (int a = 0; a < 3; ++a)
+        voxels *= static_cast<double>(std::max<std::int64_t>(hi[a] - lo[a] + 1, 0));
+      count += voxels;
+    });
+    return count;
+  }
+
+private:
+  const octomap::OcTree& tree_;
+  const OccupiedVoxelOptions& options_;
+  const unsigned depth_;
+  std::int64_t roi_lo_[3] = {0, 0, 0}, roi_hi_[3] = {0, 0, 0};
+};
+
+} // namespace
+
+double occupiedVoxelCount(const octomap::OcTree& tree,
+                          const OccupiedVoxelOptions& options)
+{
+  return OccupiedLeaves(tree, options).count();
+}
+
+void occupiedVoxelCentres(const octomap::OcTree& tree, CloudXYZ& cloud,
+                          const OccupiedVoxelOptions& options)
+{
+  const OccupiedLeaves leaves(tree, options);
+  const double points = leaves.count();
+  std::ostringstream what;
+  what << std::setprecision(3) << "the octree's occupied voxels of "
+       << tree.getResolution() << " m (" << points << " points)";
+  requireWithinMemoryCap(points * static_cast<double>(sizeof(pcl::PointXYZ)),
+                         options.memory_cap_bytes, what.str());
+  cloud.clear();
+  const bool use_roi = !options.roi.empty();
   const auto push = [&](const octomap::OcTreeKey& key) {
     const double x = tree.keyToCoord(key[0]);
     const double y = tree.keyToCoord(key[1]);
@@ -172,30 +263,7 @@ void occupiedVoxelCentres(const octomap::OcTree& tree, CloudXYZ& cloud,
     cloud.push_back(pcl::PointXYZ(static_cast<float>(x), static_cast<float>(y),
                                   static_cast<float>(z)));
   };
-
-  for (auto it = tree.begin_leafs(), end = tree.end_leafs(); it != end; ++it) {
-    const bool occupied =
-        threshold < 0.0 ? tree.isNodeOccupied(*it) : it->getOccupancy() > threshold;
-    if (!occupied)
-      continue;
-    const unsigned depth = it.getDepth();
-    if (depth == tree_depth) {
-      push(it.getKey());
-      continue;
-    }
-    // A leaf above the finest level (pruned): it spans n keys per axis, and its iterator
-    // key is the one just above its centre (OcTreeKey computeChildKey), so it covers
-    // [key - n / 2, key + n / 2 - 1].
-    const std::int64_t n = std::int64_t{1} << (tree_depth - depth);
-    std::int64_t lo[3], hi[3];
-    for (int a = 0; a < 3; ++a) {
-      lo[a] = static_cast<std::int64_t>(it.getKey()[a]) - n / 2;
-      hi[a] = lo[a] + n - 1;
-      if (use_roi) {
-        lo[a] = std::max(lo[a], roi_lo[a]);
-        hi[a] = std::min(hi[a], roi_hi[a]);
-      }
-    }
+  leaves.forEach([&](const auto&, const std::int64_t* lo, const std::int64_t* hi) {
     octomap::OcTreeKey key;
     for (std::int64_t kx = lo[0]; kx <= hi[0]; ++kx)
       for (std::int64_t ky = lo[1]; ky <= hi[1]; ++ky)
@@ -205,7 +273,7 @@ void occupiedVoxelCentres(const octomap::OcTree& tree, CloudXYZ& cloud,
           key[2] = static_cast<octomap::key_type>(kz);
           push(key);
         }
-  }
+  });
   cloud.width = static_cast<std::uint32_t>(cloud.size());
   cloud.height = 1;
   cloud.is_dense = true;
@@ -288,9 +356,17 @@ std::unique_ptr<octomap::OcTree> readOcTree(const std::string& path,
       }
       if (token == "id")
         in >> id;
-      else if (token == "res")
-        in >> res;
-      else if (token == "size")
+      else if (token == "res") {
+        // Read as text, so that "nan" or "1e-300x" is named rather than failing the
+        // stream; every value is then checked against the range.
+        std::string text;
+        in >> text;
+        char* end = nullptr;
+        res = std::strtod(text.c_str(), &end);
+        if (text.empty() || *end != '\0')
+          throw FormatError("'" + path + "' has resolution '" + text +
+                            "', expected a number of metres");
+      } else if (token == "size")
         have_size = static_cast<bool>(in >> size);
       else {
         std::string rest;
@@ -303,12 +379,25 @@ std::unique_ptr<octomap::OcTree> readOcTree(const std::string& path,
     if (id != "OcTree")
       throw FormatError("'" + path + "' holds an OctoMap " + (id.empty() ? "?" : id) +
                         ", expected an OcTree");
-    if (!(res > 0.0) || !std::isfinite(res))
-      throw FormatError("'" + path + "' has resolution " + std::to_string(res) +
-                        ", expected a finite value > 0");
+    if (!(res >= kMinMapResolutionM && res <= kMaxMapResolutionM)) {
+      std::ostringstream s;
+      s << "'" << path << "' has resolution " << res << " m, expected "
+        << kMinMapResolutionM << " to " << kMaxMapResolutionM << " m";
+      throw FormatError(s.str());
+    }
     // OctoMap's readers recurse as deep as the data says: checked first, then re-read.
     const std::streampos body = in.tellg();
-    checkOcTreeNodes(path, in, binary, size, have_size);
+    const NodeCounts counts = checkOcTreeNodes(path, in, binary, size, have_size);
+    // An OcTreeNode is 16 bytes, and a node with children has an array of 8 pointers.
+    const double need = 16.0 * static_cast<double>(counts.nodes) +
+                        64.0 * static_cast<double>(counts.inner);
+    try {
+      requireWithinMemoryCap(need, kDefaultMemoryCapBytes,
+                             "'" + path + "': its " + std::to_string(counts.nodes) +
+                                 " nodes");
+    } catch (const InvalidArgumentError& e) {
+      throw FormatError(e.what());
+    }
     in.clear();
     in.seekg(body);
     auto tree = std::make_unique<octomap::OcTree>(res);

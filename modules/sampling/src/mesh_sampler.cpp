@@ -99,6 +99,11 @@ void MeshSampler::sample(CloudXYZL& cloud) const
   });
 }
 
+double sampledCloudMemoryBytes(double points, std::size_t point_bytes)
+{
+  return points * (2.0 * static_cast<double>(point_bytes) + 16.0);
+}
+
 std::size_t groundTruthSampleCount(double area_m2, double resolution)
 {
   const double n = std::ceil(8.0 * area_m2 / (resolution * resolution));

@@ -1,5 +1,3 @@
-#include <plantnbv/scenario/geometry_input.h>
-
 #include <algorithm>
 #include <cmath>
 #include <sstream>
@@ -11,12 +9,14 @@
 #include <pcl/point_types.h>
 
 #include <plantnbv/common/error.h>
+#include <plantnbv/common/memory_cap.h>
 #include <plantnbv/filters/voxel_grid_filter.h>
 #include <plantnbv/io/cloud_io.h>
 #include <plantnbv/io/file_kind.h>
 #include <plantnbv/io/mesh_io.h>
 #include <plantnbv/octree/octree_conversion.h>
 #include <plantnbv/sampling/mesh_sampler.h>
+#include <plantnbv/scenario/geometry_input.h>
 
 namespace plantnbv {
 namespace scenario {
@@ -47,13 +47,18 @@ void loadGeometryAsCloud(const std::string& path, const std::string& what,
         options.mesh_points
             ? options.mesh_points
             : groundTruthSampleCount(sampler.getSurfaceArea(), options.resolution);
+    requireWithinMemoryCap(
+        sampledCloudMemoryBytes(static_cast<double>(n), sizeof(pcl::PointXYZ)),
+        kDefaultMemoryCapBytes,
+        "the " + std::to_string(n) + " surface samples of '" + path + "'");
     sampler.setNumberOfPoints(n);
     sampler.setSeed(options.seed);
     auto samples = std::make_shared<CloudXYZ>();
     sampler.sample(*samples);
     VoxelGridFilter<pcl::PointXYZ> voxel_grid;
     voxel_grid.setLeafSize(options.resolution);
-    voxel_grid.setOutputVoxelCentres(true); // ground truth as a map has it (docs/trials.md)
+    voxel_grid.setOutputVoxelCentres(
+        true); // ground truth as a map has it (docs/trials.md)
     voxel_grid.setInputCloud(samples);
     voxel_grid.filter(cloud);
     s << "mesh, " << mesh->size() << " triangles, " << n << " samples, " << cloud.size()
@@ -62,7 +67,11 @@ void loadGeometryAsCloud(const std::string& path, const std::string& what,
   }
   case io::FileKind::octree: {
     const auto tree = readOcTree(path);
-    occupiedVoxelCentres(*tree, cloud);
+    try {
+      occupiedVoxelCentres(*tree, cloud);
+    } catch (const InvalidArgumentError& e) { // over the memory cap: name the file
+      throw InvalidArgumentError("'" + path + "': " + e.what());
+    }
     s << "octree at " << tree->getResolution() << " m, " << cloud.size()
       << " occupied voxels";
     break;

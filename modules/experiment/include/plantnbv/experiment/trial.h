@@ -14,6 +14,7 @@
 #include <plantnbv/camera/depth_image.h>
 #include <plantnbv/common/box.h>
 #include <plantnbv/common/error.h>
+#include <plantnbv/common/memory_cap.h>
 #include <plantnbv/common/pose.h>
 #include <plantnbv/experiment/plant_scene.h>
 #include <plantnbv/experiment/reconstruction_evaluator.h>
@@ -82,13 +83,11 @@ struct TrialConfig {
   /// every view, so a trial overruns it by at most one view's time.
   double time_limit_s = 0.0;
   /// validate() refuses a config whose estimatedMemoryBytes() exceed this.
-  double memory_cap_bytes = 8.0 * 1024 * 1024 * 1024;
+  double memory_cap_bytes = kDefaultMemoryCapBytes;
 
-  /// \brief An upper estimate of the memory a trial needs, in bytes: the voxels of one
-  /// view's free space (the camera's frustum out to the map's range, at the map's
-  /// resolution; views overlap, so a whole trial's map stays near it) at 32 bytes each
-  /// (an OcTree leaf and its share of the inner nodes), plus the depth image's buffers
-  /// and the gain's rays. docs/reliability.md compares it with measured peaks.
+  /// \brief An upper estimate of the memory a trial needs, in bytes: one view into the
+  /// map (estimatedViewMemoryBytes: views overlap, so a whole trial's map stays near it)
+  /// and the gain's rays (estimatedGainMemoryBytes).
   double estimatedMemoryBytes() const;
 
   /// \throws InvalidArgumentError naming the first bad field and its value (NaN and

@@ -21,10 +21,11 @@ namespace io {
 /// refused before it is read.
 /// \throws IoError if missing or unreadable; FormatError naming the file, the box index
 /// (from 0) and the key (io::YamlReader's messages), e.g. "'rois.yaml' boxes[2].size:
-/// expected 3 non-negative numbers, got [0.1, -0.2, 0.3]", for malformed YAML, a missing key, a vector without exactly 3
-/// numbers, a NaN or infinite centre or size, a negative size (min > max), corners that
-/// overflow to infinity, an unknown key, or a file without boxes; FormatError naming the
-/// cap for a file over the size limit.
+/// expected 3 non-negative numbers, got [0.1, -0.2, 0.3]", for malformed YAML, a missing
+/// key, a vector without exactly 3 numbers, a NaN or infinite centre or size, a size that
+/// is not > 0 on every axis (a box without volume: a score over it would mean nothing),
+/// corners that overflow to infinity, an unknown key, or a file without boxes;
+/// FormatError naming the cap for a file over the size limit.
 Roi loadRoi(const std::string& path);
 
 /// \brief Writes an ROI file that loadRoi reads back exactly: each number in the

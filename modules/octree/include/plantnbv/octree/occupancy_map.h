@@ -63,7 +63,8 @@ public:
 
   /// \brief The map's parameters; defaults are the paper's (Table 1, data/paper.yaml).
   struct Config {
-    /// Edge of a voxel in metres (> 0). Default 0.003.
+    /// Edge of a voxel in metres, in [kMinMapResolutionM, kMaxMapResolutionM] (0.1 mm
+    /// to 10 m). Default 0.003.
     double resolution_m = 0.003;
     /// Occupancy probability of a hit, in (0.5, 1). Default 0.7.
     double prob_hit = 0.7;

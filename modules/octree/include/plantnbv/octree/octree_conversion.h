@@ -6,6 +6,7 @@
 #include <string>
 
 #include <plantnbv/common/box.h>
+#include <plantnbv/common/memory_cap.h>
 #include <plantnbv/common/pcl_fwd.h>
 
 namespace octomap {
@@ -14,6 +15,12 @@ class OcTree;
 
 namespace plantnbv {
 
+/// \brief The voxel sizes a map may have, in metres: 0.1 mm (the tree then spans
+/// +-3.3 m around the origin) to 10 m. OccupancyMap::Config and the .bt / .ot reader
+/// refuse anything else (0, negative, NaN, 1e-300, 1e300).
+constexpr double kMinMapResolutionM = 1e-4;
+constexpr double kMaxMapResolutionM = 10.0;
+
 /// \brief Options for `occupiedVoxelCentres`.
 struct OccupiedVoxelOptions {
   /// Occupancy probability above which a voxel counts (strict >); a value < 0 uses the
@@ -21,7 +28,17 @@ struct OccupiedVoxelOptions {
   double threshold = -1.0;
   /// When non-empty, only voxels whose centre lies in the ROI are kept.
   Roi roi;
+  /// The most bytes the cloud may take (16 per point): a pruned node of a tiny file can
+  /// stand for 2^48 voxels. Over it, nothing is allocated.
+  double memory_cap_bytes = kDefaultMemoryCapBytes;
 };
+
+/// \brief The number of points `occupiedVoxelCentres` gives with `options` before the
+/// ROI's exact test: every occupied leaf's voxels (a pruned leaf at depth d has
+/// 8^(16 - d)), clipped to the ROI's key range. O(leaves), allocates nothing.
+/// \throws InvalidArgumentError if options.threshold is NaN or > 1.
+double occupiedVoxelCount(const octomap::OcTree& tree,
+                          const OccupiedVoxelOptions& options = {});
 
 /// \brief The centres of the occupied voxels at the tree's finest resolution: a pruned
 /// inner node stands for all its voxels and is expanded into them (keys computed, not
@@ -30,7 +47,9 @@ struct OccupiedVoxelOptions {
 /// Order: OctoMap's leaf iteration order, each expanded node in increasing (x, y, z) key
 /// order (z fastest).
 /// \param[in] tree the map; not modified. \param[out] cloud cleared, then filled
-/// (unorganized, dense). \throws InvalidArgumentError if options.threshold is NaN or > 1.
+/// (unorganized, dense). \throws InvalidArgumentError if options.threshold is NaN or > 1,
+/// or if occupiedVoxelCount(tree, options) points exceed options.memory_cap_bytes (the
+/// message gives both; checked before anything is allocated).
 void occupiedVoxelCentres(const octomap::OcTree& tree, CloudXYZ& cloud,
                           const OccupiedVoxelOptions& options = {});
 
@@ -44,8 +63,15 @@ std::unique_ptr<octomap::OcTree> cloudToOcTree(const CloudXYZ& cloud, double res
 
 /// \brief Reads a .bt (binary, maximum-likelihood) or .ot (full) octree file; the file's
 /// header line decides which, not its extension.
-/// \throws IoError if missing or unreadable; FormatError if it is not an OctoMap file
-/// or holds another tree type (e.g. a ColorOcTree).
+/// The header is parsed here (OctoMap's header reader prints to stderr) and the node
+/// data is walked and checked before OctoMap's node reader (silent on checked data;
+/// it recurses as deep as the data says) builds the tree: depth 16, the header's node
+/// count, a resolution in [kMinMapResolutionM, kMaxMapResolutionM], finite log-odds in
+/// a .ot, and the tree's memory (about 16 bytes a node and 64 an inner node) within
+/// kDefaultMemoryCapBytes. Nothing is printed; thread-safe (no global state).
+/// \throws IoError if missing or unreadable; FormatError if it is not an OctoMap file,
+/// holds another tree type (e.g. a ColorOcTree) or fails a check, naming the file and
+/// the value.
 /// \param[out] maximum_likelihood if not null, whether the file was a .bt.
 std::unique_ptr<octomap::OcTree> readOcTree(const std::string& path,
                                             bool* maximum_likelihood = nullptr);

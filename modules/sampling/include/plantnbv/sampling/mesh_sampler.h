@@ -62,6 +62,12 @@ private:
   std::uint64_t seed_ = 0;
 };
 
+/// \brief The memory of drawing `points` samples of `point_bytes` each (sizeof the
+/// point type) and voxelizing them, in bytes: the samples, the voxel filter's output
+/// and its 16-byte index entry per point, n (2 point_bytes + 16). For the memory cap
+/// (plantnbv/common/memory_cap.h), before sampling.
+double sampledCloudMemoryBytes(double points, std::size_t point_bytes);
+
 /// \brief The number of surface samples that gives ground truth at a voxel size: 8 per
 /// resolution^2 of surface, so that every voxel the surface crosses receives points; at
 /// least 10,000, at most 20 million. \pre resolution > 0.
