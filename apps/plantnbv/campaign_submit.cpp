@@ -267,9 +267,14 @@ void submitCampaign(const SubmitOptions& o)
   config.task_file = (submit_dir / kTaskFileName).string();
   config.log_dir = submit_dir.string();
   const std::string script = renderSbatchScript(config);
-  writeFileAtomically(config.task_file, renderTaskFile(tasks));
   const fs::path script_path = submit_dir / kScriptName;
-  writeFileAtomically(script_path, script);
+  try { // both files or no submit directory: a task list alone would be a submission
+    writeFileAtomically(config.task_file, renderTaskFile(tasks));
+    writeFileAtomically(script_path, script);
+  } catch (const Error&) {
+    fs::remove_all(submit_dir, ec);
+    throw;
+  }
 
   const std::string shape = std::to_string(tasks.size()) + " array task" +
                             (tasks.size() == 1 ? "" : "s") + " of up to " +

@@ -1090,6 +1090,10 @@ TEST_F(CliTest, AFullDiskFailsTheCommandNamingTheFileAndKeepsThePreviousFiles)
                     "  camera: 160x120:114.25,114.25,79.5,59.5\n"
                     "  gain: {rays_x: 32, rays_y: 24}\n"
                     "studies:\n  - name: main\n    planners: [{type: random}]\n");
+  // 24 trials: a Slurm script over the limit.
+  write("many.yaml", "name: many\nplants: [{seed: 0}, {seed: 1}]\n"
+                     "yaws_deg: [0, 30, 60, 90, 120, 150, 180, 210, 240, 270, 300, 330]\n"
+                     "studies:\n  - name: main\n    planners: [{type: random}]\n");
   const std::string mesh = kFixtures + "/plant_like.ply";
   struct Case {
     std::string args;  ///< run once as it is, then again on a "full disk"
@@ -1112,6 +1116,15 @@ TEST_F(CliTest, AFullDiskFailsTheCommandNamingTheFileAndKeepsThePreviousFiles)
       {"campaign run " + path("one.yaml") + " -o " + path("r"), "r/campaign.yaml", ""},
       {"campaign report " + path("r") + " --no-figures -o " + path("rep"), "rep",
        path("rep/")},
+      // The writers behind the snapshot, the frames of a trial and Slurm's files: each
+      // command fails at its first file over the limit, whichever it is.
+      {"plant --seed 0 --snapshot " + path("ps/plant.png") + " -o " + path("ps"), "ps",
+       path("ps/")},
+      {"reconstruct --plant 0 --views 2 --config " + path("small.yaml") +
+           " --snapshot -o " + path("ts"),
+       "ts", path("t")},
+      {"campaign submit " + path("many.yaml") + " -o " + path("sub") + " --dry-run",
+       "sub", "job.sbatch"},
   };
   for (const char* folder : {"c", "d", "m", "i"})
     fs::create_directories(path(folder));
@@ -1125,8 +1138,12 @@ TEST_F(CliTest, AFullDiskFailsTheCommandNamingTheFileAndKeepsThePreviousFiles)
             : std::map<std::string, std::string>{{c.kept, slurp(path(c.kept))}};
     // 1 KiB for the process's files (its stdout and stderr files included), SIGXFSZ
     // ignored: writes past it fail with EFBIG, as on a full disk.
-    const std::string cmd = "bash -c \"trap '' XFSZ; ulimit -f 1; exec " + kTool + " " +
-                            c.args + "\" >" + path("stdout") + " 2>" + path("stderr");
+    // A snapshot's X server is started outside the limit (Xvfb cannot start under it).
+    const std::string display =
+        c.args.find("--snapshot") != std::string::npos ? "xvfb-run -a " : "";
+    const std::string cmd = display + "bash -c \"trap '' XFSZ; ulimit -f 1; exec " +
+                            kTool + " " + c.args + "\" >" + path("stdout") + " 2>" +
+                            path("stderr");
     const int status = std::system(cmd.c_str());
     ASSERT_TRUE(WIFEXITED(status)) << "killed by signal " << WTERMSIG(status);
     const std::string err = slurp(path("stderr")), out = slurp(path("stdout"));
