@@ -34,6 +34,7 @@
 #include <plantnbv/scenario/campaign_file.h>
 
 #include "campaign_submit.h"
+#include "cli_checks.h"
 #include "commands.h"
 
 namespace plantnbv {
@@ -93,7 +94,7 @@ struct RunOptions {
   int workers = 0;
   int chunk = -1;
   int chunks = 0;
-  bool chunked = false; ///< run-chunk --chunk/--chunks given (checked by campaignChunk)
+  bool chunked = false;  ///< run-chunk --chunk/--chunks given (checked by campaignChunk)
   std::string task_file; ///< run-chunk: one task of a `submit` task file
   int task = -1;
   std::string base_dir; ///< relative paths of the file are read from here if set
@@ -118,7 +119,8 @@ void runCampaign(const RunOptions& o)
   }
 
   LocalRunner runner(
-      store, [&f](const TrialSpec& t, TrialResult& r) { scenario::runCampaignTrial(f, t, r); },
+      store,
+      [&f](const TrialSpec& t, TrialResult& r) { scenario::runCampaignTrial(f, t, r); },
       o.workers);
   const bool tty = ::isatty(STDOUT_FILENO) != 0;
   bool stop_announced = false;
@@ -237,7 +239,7 @@ void addCampaignCommand(CLI::App& app)
       ->required();
   r->add_option("-o,--output", run->output_dir, "Campaign directory")->required();
   r->add_option("-j,--jobs", run->workers, "Trials at a time (default: all cores)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(workerCount("trials at a time"));
   r->callback([run]() { runCampaign(*run); });
 
   auto chunk = std::make_shared<RunOptions>();
@@ -263,7 +265,7 @@ void addCampaignCommand(CLI::App& app)
       "--base-dir", chunk->base_dir,
       "Directory the file's relative paths are read from (default: the file's)");
   c->add_option("-j,--jobs", chunk->workers, "Trials at a time (default: all cores)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(workerCount("trials at a time"));
   c->callback([chunk, chunk_index, task_file]() {
     if (chunk_index->count() == 0 && task_file->count() == 0)
       throw CLI::RequiredError("give --chunk and --chunks, or --task-file and --task",

@@ -199,7 +199,8 @@ void addCaptureCommand(CLI::App& app)
   cmd->add_flag("--no-background", o->no_background,
                 "Leave out the floor and the support under the plant");
   cmd->add_option("-o,--output", o->output, "Cloud file (.pcd or .ply)");
-  cmd->add_option("--depth", o->depth, "Also write the depth image (16-bit PNG, mm)");
+  cmd->add_option("--depth", o->depth, "Also write the depth image (16-bit PNG, mm)")
+      ->check(pngPath());
   cmd->add_option("--map", o->map,
                   "Also insert the view into a new map, write .bt or .ot");
   cmd->add_option("--frames-out", o->frames_out,

@@ -13,6 +13,19 @@ namespace app {
 /// 2^64 - 1; this refuses both with a usage error (exit 2) naming the option.
 const CLI::Validator& unsignedInteger();
 
+/// For a number whose magnitude is at most `max` (e.g. --yaw-deg, within one turn):
+/// NaN, out of range or not a number is a usage error naming the option and the range.
+CLI::Validator magnitudeAtMost(double max, const std::string& unit);
+
+/// For an image path (--snapshot, --depth): a name ending in .png, any case; a .jpg
+/// would receive PNG bytes. A usage error naming the option otherwise.
+const CLI::Validator& pngPath();
+
+/// For a count of workers such as --jobs: 0 (all cores) or a positive count up to
+/// INT_MAX; anything else is a usage error "expected 0 (all cores) or a number of
+/// `what`, got '-1'".
+CLI::Validator workerCount(const std::string& what);
+
 /// For a --threads option: 0 (all cores) or a positive count; a count over the
 /// machine's cores (std::thread::hardware_concurrency) only slows the work down (the
 /// results do not depend on it), so it is lowered to the core count with a warning on

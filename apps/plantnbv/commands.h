@@ -18,6 +18,11 @@ void addIntegrateCommand(CLI::App& app);
 void addPlanCommand(CLI::App& app);
 void addCampaignCommand(CLI::App& app);
 
+/// The tool's version ("0.1.0") and the commit it was built from ("0123456789ab",
+/// "+dirty" appended for a modified checkout, "unknown" outside git).
+const char* toolVersion();
+const char* toolCommit();
+
 /// The command line, kept by main() for requireDisplayOrReexec().
 void setCommandLine(int argc, char** argv);
 /// For a command about to render (a snapshot, figures), before it prints or starts

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <iomanip>
 #include <iostream>
+#include <sstream>
 
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
@@ -15,10 +16,10 @@
 #include <plantnbv/filters/roi_crop.h>
 #include <plantnbv/io/roi_io.h>
 #include <plantnbv/metrics/reconstruction_metrics.h>
+#include <plantnbv/scenario/geometry_input.h>
 
 #include "cli_checks.h"
 #include "commands.h"
-#include <plantnbv/scenario/geometry_input.h>
 
 namespace plantnbv {
 namespace app {
@@ -53,6 +54,10 @@ nlohmann::json distanceJson(double d)
   return std::isfinite(d) ? nlohmann::json(d) : nlohmann::json(nullptr);
 }
 
+/// Below this share of bounding-box overlap, eval warns that the clouds may be in
+/// different frames.
+constexpr double kMinEvalOverlap = 0.5;
+
 void runEval(const EvalOptions& o)
 {
   if (!(o.resolution > 0.0) || !std::isfinite(o.resolution))
@@ -76,8 +81,8 @@ void runEval(const EvalOptions& o)
   scenario::loadGeometryAsCloud(o.reference, "reference", input, *reference, summary);
   if (!o.json)
     log << "reference      " << o.reference << ": " << summary << "\n";
-  scenario::loadGeometryAsCloud(o.reconstruction, "reconstruction", input, *reconstruction,
-                      summary);
+  scenario::loadGeometryAsCloud(o.reconstruction, "reconstruction", input,
+                                *reconstruction, summary);
   if (!o.json)
     log << "reconstruction " << o.reconstruction << ": " << summary << "\n";
   const double load_ms = load_clock.ms();
@@ -88,6 +93,18 @@ void runEval(const EvalOptions& o)
       log << "cropped to " << roi.size() << " ROI box(es) of " << o.roi << ": "
           << reference->size() << " reference and " << reconstruction->size()
           << " reconstruction points\n";
+  }
+
+  // Clouds in different frames score near 0 without an error: say so.
+  const double overlap = boundingBoxOverlap(*reference, *reconstruction, rho);
+  if (!reference->empty() && !reconstruction->empty() && overlap < kMinEvalOverlap) {
+    std::ostringstream w;
+    w << std::setprecision(2) << "plantnbv: warning: the bounding boxes of the reference "
+      << "and the reconstruction overlap by " << 100.0 * overlap
+      << "% of the smaller one "
+      << "(less than " << 100.0 * kMinEvalOverlap
+      << "%): are they in the same frame (plant yaw, base, units)?\n";
+    std::cerr << w.str();
   }
 
   Stopwatch metrics_clock;

@@ -50,7 +50,9 @@ int main(int argc, char** argv)
       "plantnbv: attention-driven next-best-view planning for plant reconstruction",
       "plantnbv"};
   app.require_subcommand(1);
-  app.set_version_flag("--version", "plantnbv " PLANTNBV_VERSION);
+  app.set_version_flag("--version", std::string("plantnbv ") +
+                                        plantnbv::app::toolVersion() + " (commit " +
+                                        plantnbv::app::toolCommit() + ")");
   plantnbv::app::addSampleCommand(app);
   plantnbv::app::addEvalCommand(app);
   plantnbv::app::addPlantCommand(app);

@@ -21,6 +21,7 @@
 #include <plantnbv/viz/palette.h>
 #include <plantnbv/viz/snapshot.h>
 
+#include "cli_checks.h"
 #include "commands.h"
 #include "plant_options.h"
 
@@ -140,9 +141,9 @@ void runPlant(const PlantCommandOptions& o)
 
   std::cout << summary(placed) << "\n";
   std::cout << "wrote " << (dir / geometry_file).string()
-            << ", anatomy.json, rois.yaml and " << levels.size()
-            << " roi_<level>.yaml (" << all.size() << " boxes); generated in "
-            << std::setprecision(0) << std::fixed << make_ms << " ms\n";
+            << ", anatomy.json, rois.yaml and " << levels.size() << " roi_<level>.yaml ("
+            << all.size() << " boxes); generated in " << std::setprecision(0)
+            << std::fixed << make_ms << " ms\n";
   if (!o.snapshot.empty()) {
     Stopwatch render_clock;
     renderSnapshot(placed, o.snapshot);
@@ -162,7 +163,8 @@ void addPlantCommand(CLI::App& app)
   cmd->add_option("-o,--output", o->output_dir, "Output directory")->required();
   cmd->add_option("--snapshot", o->snapshot,
                   "Also render a PNG: parts coloured, ROIs as wireframes (needs X; "
-                  "without a display the tool re-runs itself under xvfb-run)");
+                  "without a display the tool re-runs itself under xvfb-run)")
+      ->check(pngPath());
   cmd->callback([o]() { runPlant(*o); });
 }
 

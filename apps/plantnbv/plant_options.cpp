@@ -1,5 +1,7 @@
 #include "plant_options.h"
 
+#include <iostream>
+
 #include <CLI/CLI.hpp>
 
 #include <plantnbv/common/error.h>
@@ -13,9 +15,10 @@ void addPlantOptions(CLI::App& cmd, PlantOptions& o, const std::string& seed_fla
 {
   o.seed_flag = seed_flag;
   scenario::PlantSource& s = o.source;
-  auto* seed = cmd.add_option(
-      seed_flag, s.seed, "Generate a tomato plant from this seed (0-9: the default set)")
-      ->check(unsignedInteger());
+  auto* seed =
+      cmd.add_option(seed_flag, s.seed,
+                     "Generate a tomato plant from this seed (0-9: the default set)")
+          ->check(unsignedInteger());
   auto* model = cmd.add_option("--model", s.model,
                                "Load a plant instead: a mesh (.dae .obj .ply .stl .wrl) "
                                "or a scanned cloud (.pcd .ply)");
@@ -35,6 +38,7 @@ void addPlantOptions(CLI::App& cmd, PlantOptions& o, const std::string& seed_fla
                             "Keep the model file's coordinates (no --base, --yaw-deg)")
                    ->needs(model);
   cmd.add_option("--yaw-deg", s.yaw_deg, "Turn the plant about its stem, degrees")
+      ->check(magnitudeAtMost(scenario::kMaxPlantYawDeg, "degrees"))
       ->capture_default_str()
       ->excludes(keep);
   cmd.add_option("--base", o.base, "Plant base position x,y,z in metres (world frame)")
@@ -52,7 +56,10 @@ scenario::PlacedPlant placePlant(const PlantOptions& o)
     throw InvalidArgumentError("--base must be three numbers x,y,z in metres");
   scenario::PlantSource source = o.source;
   source.base = Eigen::Vector3d(o.base[0], o.base[1], o.base[2]);
-  return scenario::makePlacedPlant(source);
+  scenario::PlacedPlant placed = scenario::makePlacedPlant(source);
+  for (const std::string& w : placed.warnings)
+    std::cerr << "plantnbv: warning: " << w << "\n";
+  return placed;
 }
 
 } // namespace app

@@ -50,7 +50,7 @@ struct ReconstructOptions {
 
 TrialConfig trialConfig(const ReconstructOptions& o, const PlacedPlant& placed)
 {
-  TrialConfig c = scenario::makeTrialConfig(o.trial, placed, "--candidates");
+  TrialConfig c = scenario::makeTrialConfig(o.trial, placed, "--");
   if (!o.frames_out.empty() && !o.trial.depth_scale && c.depth_scale == 0.0) {
     c.depth_scale = 1000.0; // frames replay to the map only if depth is rounded as PNGs
     c.validate();
@@ -100,6 +100,7 @@ nlohmann::json summaryJson(const ReconstructOptions& o, const PlacedPlant& place
                            const Trial& trial, const TrialResult& r)
 {
   nlohmann::json j;
+  j["tool"] = {{"version", toolVersion()}, {"commit", toolCommit()}};
   j["plant"] = {{"name", placed.plant.name}, {"description", placed.description}};
   const CylindricalSector& sector = trial.getSector();
   j["config"] = {
@@ -123,6 +124,10 @@ nlohmann::json summaryJson(const ReconstructOptions& o, const PlacedPlant& place
         {"angle_deg", sector.angle_rad * 180.0 / M_PI}}},
       {"config_file", o.trial.config_file},
   };
+  // What `plantnbv sample --voxel RES --seed SEED` needs to draw the same ground truth.
+  j["ground_truth"] = {{"seed", groundTruthSeed(c.seed)},
+                       {"voxel", c.map.resolution_m},
+                       {"points", "voxel centres"}};
   nlohmann::json levels = nlohmann::json::object();
   for (std::size_t l = 0; l < r.level_names.size(); ++l) {
     const std::vector<double> f1 = r.f1Curve(l);
@@ -225,6 +230,9 @@ void runReconstruct(const ReconstructOptions& o)
     trial.setFrameCallback(
         [&](const TrialFrame& f) { frames->append(*f.depth, f.T_W_O, double(f.index)); });
   const std::vector<EvaluationLevel> levels = scenario::evaluationLevels(placed);
+  for (const std::string& w :
+       scenario::trialWarnings(placed, config, attention_roi, levels))
+    std::cerr << "plantnbv: warning: " << w << "\n";
   scenario::setUpTrial(placed, attention_roi, levels, trial);
   std::cout << placed.plant.name << " (" << placed.description
             << "): " << plannerKindName(config.planner)
@@ -305,8 +313,9 @@ void addReconstructCommand(CLI::App& app)
          "for '_' works too) or an ROI file")
       ->capture_default_str();
   cmd->add_option("--views", o->trial.views, "View budget, v0 included (default 10)");
-  cmd->add_option("--candidates", o->trial.candidates,
-                  "Candidates per step: 9, 27 (default) or 45 (1, 3, 5 per grid cell)");
+  cmd->add_option(
+      "--candidates", o->trial.candidates,
+      "Candidates per step: a multiple of the grid cells (27 on the 3x3 grid)");
   cmd->add_option("--resolution", o->trial.resolution_m,
                   "Map voxel size in metres (0.003)");
   cmd->add_option("--sector-height", o->trial.sector_height_m,

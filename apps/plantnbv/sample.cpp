@@ -28,6 +28,8 @@ namespace {
 struct SampleOptions {
   std::string mesh;
   std::size_t points = 100000;
+  bool points_given = false; ///< else, with --voxel: the trials' ground-truth count
+  bool centroids = false;    ///< --voxel keeps centroids instead of voxel centres
   double voxel = 0.0;
   double noise = 0.0;
   std::uint64_t seed = 0;
@@ -53,7 +55,12 @@ void sampleAndSave(const SampleOptions& o, const std::shared_ptr<TriangleMesh>& 
   Stopwatch clock;
   MeshSampler sampler;
   sampler.setInputMesh(mesh);
-  sampler.setNumberOfPoints(o.points);
+  // Ground truth at a resolution, as trials and `eval` make it: this many samples.
+  const std::size_t points =
+      o.voxel > 0.0 && !o.points_given
+          ? groundTruthSampleCount(sampler.getSurfaceArea(), o.voxel)
+          : o.points;
+  sampler.setNumberOfPoints(points);
   sampler.setSeed(o.seed);
   auto cloud = std::make_shared<pcl::PointCloud<PointT>>();
   sampler.sample(*cloud);
@@ -68,11 +75,13 @@ void sampleAndSave(const SampleOptions& o, const std::shared_ptr<TriangleMesh>& 
     Stopwatch voxel_clock;
     VoxelGridFilter<PointT> grid;
     grid.setLeafSize(o.voxel);
+    grid.setOutputVoxelCentres(!o.centroids);
     grid.setInputCloud(cloud);
     auto voxelized = std::make_shared<pcl::PointCloud<PointT>>();
     grid.filter(*voxelized);
     std::cout << "voxelized at " << o.voxel << " m: " << voxelized->size()
-              << " points in " << voxel_clock.ms() << " ms\n";
+              << (o.centroids ? " centroids" : " voxel centres") << " in "
+              << voxel_clock.ms() << " ms\n";
     cloud = voxelized;
   }
   io::saveCloud(o.output, *cloud);
@@ -114,12 +123,22 @@ void addSampleCommand(CLI::App& app)
   CLI::App* cmd = app.add_subcommand(
       "sample", "Sample points uniformly on a mesh surface (area-weighted, seeded)");
   cmd->add_option("--mesh", o->mesh, "Mesh file (.ply .obj .stl .dae .wrl)")->required();
-  cmd->add_option("--points", o->points, "Number of surface samples")
-      ->check(unsignedInteger())
-      ->capture_default_str();
-  cmd->add_option("--voxel", o->voxel,
-                  "Voxelize at this size in metres (centroid per voxel); 0 = off")
-      ->capture_default_str();
+  CLI::Option* points =
+      cmd->add_option(
+             "--points", o->points,
+             "Number of surface samples (default 100000; with --voxel, the "
+             "trials' ground-truth count: 8 per voxel^2 of surface, 10^4 to 2 10^7)")
+          ->check(unsignedInteger());
+  CLI::Option* voxel =
+      cmd->add_option(
+             "--voxel", o->voxel,
+             "Voxelize at this size in metres: the centre of every voxel the samples "
+             "fall in, on the map's lattice (ground truth as trials make it); 0 = off")
+          ->capture_default_str();
+  cmd->add_flag("--centroids", o->centroids,
+                "With --voxel: keep each voxel's centroid of samples (pcl::VoxelGrid) "
+                "instead of its centre")
+      ->needs(voxel);
   cmd->add_option("--noise", o->noise,
                   "Gaussian noise sigma in metres added to each coordinate; 0 = off")
       ->capture_default_str();
@@ -128,7 +147,10 @@ void addSampleCommand(CLI::App& app)
       ->capture_default_str();
   cmd->add_flag("--labels", o->labels, "Write part labels (pcl::PointXYZL)");
   cmd->add_option("-o,--output", o->output, "Output cloud (.pcd or .ply)")->required();
-  cmd->callback([o]() { runSample(*o); });
+  cmd->callback([o, points]() {
+    o->points_given = points->count() > 0;
+    runSample(*o);
+  });
 }
 
 } // namespace app

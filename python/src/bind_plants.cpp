@@ -217,6 +217,9 @@ void bindPlant(py::module_& m)
           "{level name: Roi}: every kind of a generated plant (fruit when it has "
           "fruit); whole_plant for a model; model_rois for a model's ROI file.")
       .def_readonly("description", &PlacedPlant::description)
+      .def_readonly("warnings", &PlacedPlant::warnings,
+                    "What place_plant warned about (UserWarning), e.g. a label rule "
+                    "that labelled nothing.")
       .def("__repr__", [](const PlacedPlant& p) {
         return "PlacedPlant('" + p.plant.name + "', " + p.description + ")";
       });
@@ -235,8 +238,15 @@ void bindPlant(py::module_& m)
         source.keep_frame = keep_frame;
         source.yaw_deg = yaw_deg;
         source.base = readVector3(base, "base");
-        py::gil_scoped_release release;
-        return std::make_shared<PlacedPlant>(scenario::makePlacedPlant(source));
+        std::shared_ptr<PlacedPlant> placed;
+        {
+          py::gil_scoped_release release;
+          placed = std::make_shared<PlacedPlant>(scenario::makePlacedPlant(source));
+        }
+        for (const std::string& w : placed->warnings) // as the tool prints them
+          if (PyErr_WarnEx(PyExc_UserWarning, w.c_str(), 1) != 0)
+            throw py::error_already_set(); // warnings turned into errors
+        return placed;
       },
       py::kw_only(), "seed"_a = py::none(), "stage"_a = py::none(),
       "simplified"_a = false, "model"_a = "", "labels"_a = "", "rois"_a = "",
@@ -245,7 +255,8 @@ void bindPlant(py::module_& m)
       "The plant of `plantnbv reconstruct --plant/--model`: a generated tomato plant "
       "(seed, optional growth stage) or a model file (mesh or scanned cloud, with part "
       "label rules `labels` and an ROI file `rois`), placed at `base` turned by "
-      "yaw_deg.");
+      "yaw_deg (within +-360 degrees). A label rule that labels nothing is a "
+      "UserWarning.");
 }
 
 py::dict captureDict(const CloudXYZL& cloud, const DepthImage& depth, const Pose& T_W_C)

@@ -3,6 +3,7 @@
 // code, stdout and stderr, and the check of a one-line error.
 
 #include <algorithm>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -36,6 +37,19 @@ inline std::string slurp(const fs::path& p)
   std::stringstream s;
   s << in.rdbuf();
   return s.str();
+}
+
+/// The standard output of a shell command (empty if it fails or prints nothing).
+inline std::string commandOutput(const std::string& command)
+{
+  std::string out;
+  if (FILE* pipe = ::popen(command.c_str(), "r")) {
+    char buffer[256];
+    for (std::size_t n; (n = std::fread(buffer, 1, sizeof(buffer), pipe)) > 0;)
+      out.append(buffer, n);
+    ::pclose(pipe);
+  }
+  return out;
 }
 
 class CliTest : public ::testing::Test {

@@ -8,6 +8,7 @@
 #include <limits>
 #include <map>
 #include <random>
+#include <regex>
 #include <set>
 #include <sstream>
 #include <string>
@@ -47,7 +48,20 @@ TEST_F(CliTest, HelpAndVersionExitZero)
   EXPECT_NE(help.out.find("sample"), std::string::npos);
   EXPECT_NE(help.out.find("eval"), std::string::npos);
   EXPECT_EQ(run("eval --help").code, 0);
-  EXPECT_EQ(run("--version").code, 0);
+  // The version and the commit the tool was built from (this checkout's).
+  const ToolRun version = run("--version");
+  EXPECT_EQ(version.code, 0);
+  EXPECT_TRUE(std::regex_match(version.out,
+                               std::regex("plantnbv [0-9]+\\.[0-9]+\\.[0-9]+ \\(commit "
+                                          "([0-9a-f]{12}(\\+dirty)?|unknown)\\)\n")))
+      << version.out;
+  const std::string head =
+      plantnbv::test::commandOutput("git -C " + std::string(PLANTNBV_DATA_DIR) +
+                                    " rev-parse --short=12 HEAD 2>/dev/null");
+  if (!head.empty()) { // a git checkout
+    EXPECT_NE(version.out.find("(commit " + head.substr(0, 12)), std::string::npos)
+        << version.out << " at " << head;
+  }
 }
 
 TEST_F(CliTest, SampleWritesTheRequestedPointsSeeded)
@@ -1048,6 +1062,92 @@ TEST_F(RealRobotCliTest, FramesOutAppendsToItsFolderAndRefusesAnother)
   expectOneLineError(run("reconstruct --plant 1 --views 1 --frames-out " + path("A") +
                          " -o " + path("R")),
                      1, "A/camera.yaml' describes another camera");
+}
+
+TEST_F(CliTest, TheReadmeGroundTruthRecipeGivesTheTrialsScore)
+{
+  // The README's `sample --voxel` with the trial's ground-truth seed, then `eval` on the
+  // trial's reconstruction and the plant's whole-plant box: the trial's final F1, to the
+  // last bit; `eval` of the mesh itself with that seed too.
+  ASSERT_EQ(run("plant --seed 1 -o " + path("p")).code, 0);
+  const ToolRun trial = run("reconstruct --plant 1 --views 2 -o " + path("t"));
+  ASSERT_EQ(trial.code, 0) << trial.err;
+  const auto summary = nlohmann::json::parse(slurp(path("t/summary.json")));
+  const std::uint64_t seed = summary["ground_truth"]["seed"].get<std::uint64_t>();
+  EXPECT_EQ(summary["ground_truth"]["voxel"], 0.003);
+  const double trial_f1 = summary["levels"]["whole_plant"]["final_f1"].get<double>();
+  const ToolRun sampled =
+      run("sample --mesh " + path("p/plant.ply") + " --voxel 0.003 --labels --seed " +
+          std::to_string(seed) + " -o " + path("gt.pcd"));
+  ASSERT_EQ(sampled.code, 0) << sampled.err;
+  EXPECT_NE(sampled.out.find(" voxel centres in "), std::string::npos) << sampled.out;
+  const std::string scored = " --reconstruction " + path("t/reconstruction.pcd") +
+                             " --roi " + path("p/roi_whole_plant.yaml") + " --json";
+  for (const std::string& reference :
+       {path("gt.pcd"), path("p/plant.ply") + " --seed " + std::to_string(seed)}) {
+    SCOPED_TRACE(reference);
+    const ToolRun eval = run("eval --reference " + reference + scored);
+    ASSERT_EQ(eval.code, 0) << eval.err;
+    EXPECT_EQ(eval.err, "");
+    EXPECT_EQ(nlohmann::json::parse(eval.out)["f1"].get<double>(), trial_f1);
+  }
+  // Centroids (the old behaviour) are one flag away, and give another cloud.
+  ASSERT_EQ(run("sample --mesh " + path("p/plant.ply") +
+                " --voxel 0.003 --labels --centroids " + "--seed " +
+                std::to_string(seed) + " -o " + path("centroids.pcd"))
+                .code,
+            0);
+  EXPECT_NE(slurp(path("centroids.pcd")), slurp(path("gt.pcd")));
+}
+
+TEST_F(CliTest, InputsThatWouldGiveMeaninglessResultsAreWarnedAbout)
+{
+  // A label rule that labels nothing: named, the rest of the rules still apply.
+  ToolRun r =
+      run("plant --model " + kFixtures +
+          "/plant_cm_zup.dae --labels stem=no_such_node,leaflet=.* -o " + path("p"));
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_EQ(r.err, "plantnbv: warning: label rule stem=no_such_node matches no triangle "
+                   "of '" +
+                       kFixtures +
+                       "/plant_cm_zup.dae' (rules match node names; the first that "
+                       "matches wins)\n");
+  // A voxel as large as the ROIs: one warning per level whose boxes it cannot resolve.
+  r = run("reconstruct --plant 1 --views 1 --resolution 0.02 -o " + path("coarse"));
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_EQ(r.err, "plantnbv: warning: the map's resolution 0.02 m gives fewer than 2 "
+                   "voxels across the 0.03 m side of a box of level leaf_nodes: its "
+                   "scores say little (the paper's is 0.003 m)\n");
+  // Attention on empty space, 4 m from the plant.
+  write("far.yaml", "boxes:\n  - center: [5, 0, 1]\n    size: [0.1, 0.1, 0.1]\n");
+  r = run("reconstruct --plant 1 --views 1 --attention " + path("far.yaml") + " -o " +
+          path("far"));
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_EQ(r.err.rfind("plantnbv: warning: the attention ROI, (4.95, -0.05, 0.95) to "
+                        "(5.05, 0.05, 1.05), does not meet the plant, (",
+                        0),
+            0u)
+      << r.err;
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+  // eval of clouds that hardly overlap (another frame), and of clouds that do.
+  writeLattice("a.pcd", 0.0f);
+  writeLattice("b.pcd", 0.04f); // 1/64 m lattice, 0.047 m wide: moved by most of it
+  r = run("eval --reference " + path("a.pcd") + " --reconstruction " + path("b.pcd"));
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.err.find("plantnbv: warning: the bounding boxes of the reference and the "
+                       "reconstruction overlap by "),
+            std::string::npos)
+      << r.err;
+  EXPECT_NE(
+      r.err.find("% of the smaller one (less than 50%): are they in the same frame"),
+      std::string::npos)
+      << r.err;
+  r = run("eval --reference " + path("a.pcd") + " --reconstruction " + path("a.pcd"));
+  EXPECT_EQ(r.err, "");
+  // The paper's settings warn about nothing.
+  r = run("reconstruct --plant 1 --views 1 -o " + path("paper"));
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_EQ(r.err, "");
 }
 
 TEST_F(CliTest, ThreadsOverTheCoresAreLoweredToThemWithAWarning)

@@ -45,7 +45,10 @@ const std::vector<BadCall> kBadCalls = {
     {"capture --plant 1 --noise-seed 3 -o {d}/v.pcd", 2, "--noise"},
     {"reconstruct --plant 1", 2, "--output"},
     {"campaign run {d}/tiny.yaml", 2, "--output"},
-    {"campaign run {d}/tiny.yaml -o {d}/c -j -1", 2, "--jobs"},
+    {"campaign run {d}/tiny.yaml -o {d}/c -j -1", 2,
+     "--jobs: expected 0 (all cores) or a number of trials at a time, got '-1'"},
+    {"campaign run-chunk {d}/tiny.yaml -o {d}/c --chunk 0 --chunks 1 -j 2.5", 2,
+     "--jobs: expected 0 (all cores)"},
     {"campaign report", 2, "dir"},
     // eval
     {"eval --reference {d}/missing.pcd --reconstruction {d}/a.pcd", 1, "missing.pcd"},
@@ -240,6 +243,25 @@ const std::vector<BadCall> kBadCalls = {
      "flat.yaml' boxes[0].size: expected 3 sizes > 0 (metres), got [0.1, 0, 0.1]"},
     {"plan --map {d}/good.ot --roi {d}/point.yaml", 1,
      "point.yaml' boxes[1].size: expected 3 sizes > 0 (metres), got [0, 0, 0]"},
+    // Values that were taken silently: a yaw beyond a turn, a pattern the planner
+    // ignores, images named .jpg that would hold PNG bytes, the grid's own multiples
+    {"reconstruct --plant 1 --yaw-deg 1e19 -o {d}/x", 2,
+     "--yaw-deg: expected a number from -360 to 360 (degrees), got '1e19'"},
+    {"plant --seed 1 --yaw-deg -360.5 -o {d}/x", 2, "--yaw-deg"},
+    {"capture --plant 1 --yaw-deg nan -o {d}/v.pcd", 2, "--yaw-deg"},
+    {"campaign run {d}/yaw.yaml -o {d}/c", 1,
+     "yaw.yaml' yaws_deg[1]: expected an angle in [-360, 360] degrees, got 1e19"},
+    {"reconstruct --plant 1 --planner nbv --pattern 2 -o {d}/x", 1,
+     "--pattern 2: only the predefined planner has patterns (the planner is nbv)"},
+    {"reconstruct --plant 1 --planner random --pattern 1 -o {d}/x", 1,
+     "(the planner is random)"},
+    {"plant --seed 1 --snapshot {d}/x.jpg -o {d}/x", 2,
+     "--snapshot: expected a file name ending in .png (the image is written as PNG), "
+     "got"},
+    {"capture --plant 1 --depth {d}/c.jpeg -o {d}/c.pcd", 2,
+     "--depth: expected a file name ending in .png"},
+    {"reconstruct --plant 1 --config {d}/grid8.yaml --candidates 27 -o {d}/x", 1,
+     "--candidates 27: expected a multiple of the 8 grid cells (8, 24, 40, ...)"},
 };
 
 /// The bytes of a PNG (no filter, deflate's stored blocks): `depth` bits per sample,
@@ -341,6 +363,9 @@ TEST_F(CliTest, EveryBadArgumentOrFileIsOneLineNamingIt)
   const std::string tiny = "name: tiny\nplants: [{seed: 0}]\nyaws_deg: [0]\nviews: 2\n"
                            "studies:\n  - name: main\n    planners:\n";
   write("tiny.yaml", tiny + "      - {type: random}\n");
+  write("yaw.yaml", "name: yaw\nplants: [{seed: 0}]\nyaws_deg: [0, 1e19]\nstudies:\n"
+                    "  - name: main\n    planners: [{type: random}]\n");
+  write("grid8.yaml", "sector: {rows: 2, cols: 4}\n");
   write("unknown_key.yaml", tiny + "      - {type: nbv, atention: leaf-nodes}\n");
   write("garbage.yaml", "studies: [unclosed\n");
   write("self_alias.yaml", "sector: &s {radius: 0.4, rows: [*s]}\n");
@@ -469,7 +494,6 @@ TEST_F(CliTest, DamagedCloudsAndMapsAreOurOneLineWithoutLibraryChatter)
             0);
   for (const std::string map : {"m.bt", "m.ot"})
     ASSERT_EQ(run("integrate " + path("f") + " -o " + path(map)).code, 0);
-  writeLattice("a.pcd", 0.0f);
 
   struct Edit {
     std::string from, to; ///< a header text and what replaces it
@@ -530,8 +554,8 @@ TEST_F(CliTest, DamagedCloudsAndMapsAreOurOneLineWithoutLibraryChatter)
     for (std::size_t k = 0; k < damaged.size(); ++k) {
       const std::string file = path("d" + std::to_string(k) + "_" + name);
       std::ofstream(file, std::ios::binary) << damaged[k];
-      for (const std::string args :
-           {"eval --reference " + file + " --reconstruction " + path("a.pcd"),
+      for (const std::string& args :
+           {"eval --reference " + file + " --reconstruction " + file,
             map ? "plan --map " + file : std::string()}) {
         if (args.empty())
           continue;

@@ -498,3 +498,32 @@ TEST(ViewsToReach, FirstViewNeverAndNaN)
   EXPECT_EQ(viewsToReach({nan, nan}, 0.0), -1);
   EXPECT_EQ(viewsToReach({0.95}, nan), -1);
 }
+
+TEST(BoundingBoxOverlap, IntersectionOverTheSmallerBoxGrownByTheMargin)
+{
+  using plantnbv::boundingBoxOverlap;
+  auto box = [](float x0, float x1, float y1, float z1) { // two opposite corners
+    CloudXYZ c;
+    c.push_back(pcl::PointXYZ(x0, 0.0f, 0.0f));
+    c.push_back(pcl::PointXYZ(x1, y1, z1));
+    return c;
+  };
+  const CloudXYZ unit = box(0.0f, 1.0f, 1.0f, 1.0f);
+  EXPECT_EQ(boundingBoxOverlap(unit, unit, 0.0), 1.0);
+  EXPECT_EQ(boundingBoxOverlap(unit, box(0.25f, 0.75f, 0.5f, 0.5f), 0.0), 1.0); // inside
+  EXPECT_EQ(boundingBoxOverlap(unit, box(0.5f, 1.5f, 1.0f, 1.0f), 0.0), 0.5);
+  EXPECT_EQ(boundingBoxOverlap(box(0.5f, 1.5f, 1.0f, 1.0f), unit, 0.0), 0.5);
+  EXPECT_EQ(boundingBoxOverlap(unit, box(2.0f, 3.0f, 1.0f, 1.0f), 0.0), 0.0); // apart
+  // A flat cloud has no volume without a margin; with 0.5 its box is 2 x 2 x 1 and
+  // the unit box grown alike (2 x 2 x 2) holds it.
+  const CloudXYZ flat = box(0.0f, 1.0f, 1.0f, 0.0f);
+  EXPECT_EQ(boundingBoxOverlap(unit, flat, 0.0), 0.0);
+  EXPECT_EQ(boundingBoxOverlap(unit, flat, 0.5), 1.0);
+  // Non-finite points are left out; a cloud without a finite point overlaps nothing.
+  CloudXYZ with_nan = unit;
+  with_nan.push_back(pcl::PointXYZ(std::nanf(""), 9.0f, 9.0f));
+  EXPECT_EQ(boundingBoxOverlap(with_nan, unit, 0.0), 1.0);
+  EXPECT_EQ(boundingBoxOverlap(CloudXYZ(), unit, 0.1), 0.0);
+  for (const double bad : {-0.1, std::numeric_limits<double>::quiet_NaN()})
+    EXPECT_THROW(boundingBoxOverlap(unit, unit, bad), InvalidArgumentError);
+}

@@ -120,6 +120,11 @@ double TrialConfig::estimatedMemoryBytes() const
   return estimatedViewMemoryBytes(map, camera) + estimatedGainMemoryBytes(gain);
 }
 
+std::uint64_t groundTruthSeed(std::uint64_t trial_seed)
+{
+  return deriveSeed(trial_seed, kTruthStream);
+}
+
 ActiveVisionSession::Config sessionConfigOf(const TrialConfig& c)
 {
   ActiveVisionSession::Config session;
@@ -184,7 +189,7 @@ void Trial::run(TrialResult& result)
   sensor.setScene(makePlantScene(*plant_, c.scene, static_cast<unsigned int>(c.threads)));
   ReconstructionEvaluator evaluator;
   evaluator.setResolution(c.map.resolution_m);
-  evaluator.setSeed(deriveSeed(c.seed, kTruthStream));
+  evaluator.setSeed(groundTruthSeed(c.seed));
   evaluator.setNumberOfThreads(c.threads);
   evaluator.setGroundTruth(*plant_);
   evaluator.setLevels(levels_);

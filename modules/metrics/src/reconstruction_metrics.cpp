@@ -4,6 +4,7 @@
 #include <omp.h>
 #include <string>
 
+#include <Eigen/Core>
 #include <pcl/point_cloud.h>
 #include <pcl/point_types.h>
 
@@ -204,6 +205,40 @@ int viewsToReach(const std::vector<double>& curve, double tau)
     if (curve[i] >= tau) // false for NaN entries and a NaN tau
       return static_cast<int>(i + 1);
   return -1;
+}
+
+namespace {
+
+/// The bounds of the finite points; false when there is none.
+bool finiteBounds(const CloudXYZ& cloud, Eigen::Array3d& lo, Eigen::Array3d& hi)
+{
+  lo.setConstant(std::numeric_limits<double>::infinity());
+  hi.setConstant(-std::numeric_limits<double>::infinity());
+  bool any = false;
+  for (const pcl::PointXYZ& p : cloud)
+    if (std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z)) {
+      const Eigen::Array3d q(p.x, p.y, p.z);
+      lo = lo.min(q);
+      hi = hi.max(q);
+      any = true;
+    }
+  return any;
+}
+
+} // namespace
+
+double boundingBoxOverlap(const CloudXYZ& a, const CloudXYZ& b, double margin_m)
+{
+  if (!(margin_m >= 0.0) || !std::isfinite(margin_m))
+    throw InvalidArgumentError("boundingBoxOverlap: margin " + std::to_string(margin_m) +
+                               " must be a finite distance >= 0 (metres)");
+  Eigen::Array3d a_lo, a_hi, b_lo, b_hi;
+  if (!finiteBounds(a, a_lo, a_hi) || !finiteBounds(b, b_lo, b_hi))
+    return 0.0;
+  a_lo -= margin_m, a_hi += margin_m, b_lo -= margin_m, b_hi += margin_m;
+  const Eigen::Array3d common = (a_hi.min(b_hi) - a_lo.max(b_lo)).max(0.0);
+  const double smaller = std::min((a_hi - a_lo).prod(), (b_hi - b_lo).prod());
+  return smaller > 0.0 ? std::min(1.0, common.prod() / smaller) : 0.0;
 }
 
 } // namespace plantnbv

@@ -1,12 +1,12 @@
-#include <plantnbv/scenario/campaign_file.h>
-
 #include <algorithm>
+#include <cmath>
 #include <iomanip>
 #include <map>
 #include <sstream>
 
 #include <plantnbv/common/error.h>
 #include <plantnbv/io/yaml_reader.h>
+#include <plantnbv/scenario/campaign_file.h>
 #include <plantnbv/scenario/placed_plant.h>
 #include <plantnbv/scenario/trial_config_file.h>
 #include <plantnbv/scenario/trial_setup.h>
@@ -267,6 +267,11 @@ CampaignFile parseCampaignFile(const std::string& text, const std::string& path)
              {"yaws_deg",
               [&](const YAML::Node& n, const std::string& k) {
                 d.yaws_deg = r.readList<double>(n, k, "angles in degrees");
+                for (std::size_t i = 0; i < d.yaws_deg.size(); ++i)
+                  if (!(std::abs(d.yaws_deg[i]) <= kMaxPlantYawDeg))
+                    r.fail(YamlReader::index(k, i),
+                           "expected an angle in [-360, 360] degrees, got " +
+                               YamlReader::describe(n[i]));
               }},
              {"views",
               [&](const YAML::Node& n, const std::string& k) {
@@ -329,8 +334,9 @@ CampaignFile parseCampaignFile(const std::string& text, const std::string& path)
   checkCandidates(d.candidates, "candidates");
   for (std::size_t s = 0; s < d.studies.size(); ++s)
     for (std::size_t i = 0; i < d.studies[s].candidates.size(); ++i)
-      checkCandidates(d.studies[s].candidates[i],
-                      YamlReader::index("studies[" + std::to_string(s) + "].candidates", i));
+      checkCandidates(
+          d.studies[s].candidates[i],
+          YamlReader::index("studies[" + std::to_string(s) + "].candidates", i));
   // Every trial's config is valid (resolutions, views, ...).
   for (const TrialSpec& t : expandCampaign(d)) {
     try {

@@ -42,8 +42,13 @@ void checkSource(const PlantSource& s)
     throw InvalidArgumentError(
         "plant source: the base must be three finite numbers x,y,z "
         "in metres");
-  if (!std::isfinite(s.yaw_deg))
-    throw InvalidArgumentError("plant source: the yaw must be a finite angle in degrees");
+  // A turn beyond one revolution is a mistake, and cos/sin of 1e19 degrees is not a turn.
+  if (!(std::abs(s.yaw_deg) <= kMaxPlantYawDeg)) {
+    std::ostringstream m;
+    m << "plant source: the yaw " << s.yaw_deg << " must be an angle in [-"
+      << kMaxPlantYawDeg << ", " << kMaxPlantYawDeg << "] degrees";
+    throw InvalidArgumentError(m.str());
+  }
 }
 
 PlacedPlant generatedPlant(const PlantSource& s, double yaw_rad)
@@ -92,8 +97,16 @@ PlacedPlant modelPlant(const PlantSource& s, double yaw_rad)
   switch (io::fileKind(s.model)) {
   case io::FileKind::mesh: {
     TriangleMesh mesh = io::loadMesh(s.model);
-    if (!s.labels.empty())
-      applyPartLabelRules(mesh, parsePartLabelRules(s.labels));
+    if (!s.labels.empty()) {
+      const std::vector<PartLabelRule> rules = parsePartLabelRules(s.labels);
+      const std::vector<std::size_t> labelled = applyPartLabelRules(mesh, rules);
+      for (std::size_t i = 0; i < rules.size(); ++i)
+        if (labelled[i] == 0)
+          out.warnings.push_back(
+              "label rule " + std::string(partLabelName(rules[i].label)) + "=" +
+              rules[i].pattern + " matches no triangle of '" + s.model +
+              "' (rules match node names; the first that matches wins)");
+    }
     out.plant = plantFromMesh(std::move(mesh), name, s.keep_frame);
     break;
   }

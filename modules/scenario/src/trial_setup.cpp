@@ -1,5 +1,8 @@
 #include <algorithm>
 #include <filesystem>
+#include <iomanip>
+#include <limits>
+#include <sstream>
 
 #include <plantnbv/common/error.h>
 #include <plantnbv/io/roi_io.h>
@@ -95,19 +98,25 @@ void fitSectorToPlant(const PlacedPlant& placed, std::optional<double> sector_he
 }
 
 TrialConfig makeTrialConfig(const TrialOverrides& o, const PlacedPlant& placed,
-                            const std::string& candidates_name)
+                            const std::string& option_prefix)
 {
   TrialConfig c;
   if (!o.config_file.empty())
     loadTrialConfig(o.config_file, c);
   if (o.planner)
     c.planner = plannerKindFromName(*o.planner);
-  if (o.pattern)
+  if (o.pattern) {
+    if (c.planner != PlannerKind::predefined) // it would be ignored
+      throw InvalidArgumentError(option_prefix + "pattern " + std::to_string(*o.pattern) +
+                                 ": only the predefined planner has patterns (the "
+                                 "planner is " +
+                                 plannerKindName(c.planner) + ")");
     c.pattern = *o.pattern;
+  }
   if (o.views)
     c.views = *o.views;
   if (o.candidates)
-    setCandidateCount(*o.candidates, candidates_name, c);
+    setCandidateCount(*o.candidates, option_prefix + "candidates", c);
   if (o.resolution_m)
     c.map.resolution_m = *o.resolution_m;
   if (o.seed)
@@ -119,6 +128,52 @@ TrialConfig makeTrialConfig(const TrialOverrides& o, const PlacedPlant& placed,
   fitSectorToPlant(placed, o.sector_height_m, c);
   c.validate();
   return c;
+}
+
+std::vector<std::string> trialWarnings(const PlacedPlant& placed,
+                                       const TrialConfig& config, const Roi& attention,
+                                       const std::vector<EvaluationLevel>& levels)
+{
+  std::vector<std::string> warnings;
+  const double res = config.map.resolution_m;
+  for (const EvaluationLevel& level : levels) {
+    double side = std::numeric_limits<double>::infinity();
+    for (const Box& b : level.roi.boxes())
+      side = std::min(side, b.size.minCoeff());
+    if (2.0 * res > side) {
+      std::ostringstream s;
+      s << std::setprecision(3) << "the map's resolution " << res
+        << " m gives fewer than 2 voxels across the " << side
+        << " m side of a box of level " << level.name
+        << ": its scores say little (the paper's is 0.003 m)";
+      warnings.push_back(s.str());
+    }
+  }
+  if (config.planner == PlannerKind::nbv && !attention.empty()) {
+    Eigen::Vector3f lo, hi;
+    placed.plant.bounds(lo, hi);
+    const Box roi = attention.boundingBox();
+    const bool apart = (roi.max().array() < lo.cast<double>().array()).any() ||
+                       (roi.min().array() > hi.cast<double>().array()).any();
+    if (apart) {
+      std::ostringstream s;
+      s << std::setprecision(3);
+      const auto point = [&s](const Eigen::Vector3d& p) {
+        s << "(" << p.x() << ", " << p.y() << ", " << p.z() << ")";
+      };
+      s << "the attention ROI, ";
+      point(roi.min());
+      s << " to ";
+      point(roi.max());
+      s << ", does not meet the plant, ";
+      point(lo.cast<double>());
+      s << " to ";
+      point(hi.cast<double>());
+      s << " (world frame, metres): the planner attends to no part of it";
+      warnings.push_back(s.str());
+    }
+  }
+  return warnings;
 }
 
 void setUpTrial(const PlacedPlant& placed, const Roi& attention,

@@ -95,6 +95,11 @@ struct TrialConfig {
   void validate() const;
 };
 
+/// \brief The seed of a trial's ground-truth sampling (MeshSampler) for the trial seed
+/// `trial_seed`: `plantnbv sample --seed` or `eval --seed` with it draws the trial's
+/// surface samples (docs/trials.md, "Ground truth").
+std::uint64_t groundTruthSeed(std::uint64_t trial_seed);
+
 /// \brief The session part of a trial config: map, sector, grid, gain, seed, threads
 /// (the sector's axis as in the config; a Trial puts it at the plant's base).
 ActiveVisionSession::Config sessionConfigOf(const TrialConfig& config);

@@ -111,4 +111,12 @@ private:
 /// nothing reaches a NaN `tau`.
 int viewsToReach(const std::vector<double>& curve, double tau);
 
+/// \brief How much two clouds' axis-aligned bounding boxes overlap, in [0, 1]: the
+/// volume of their intersection over the smaller box's volume, each box grown by
+/// `margin_m` (metres, >= 0) on every side, so that a flat cloud or a single point has a
+/// volume. 1 when one box holds the other; 0 when they are apart or a cloud has no
+/// finite point. A low value means two clouds that can hardly be compared: another
+/// frame, another yaw, another plant.
+double boundingBoxOverlap(const CloudXYZ& a, const CloudXYZ& b, double margin_m);
+
 } // namespace plantnbv

@@ -17,11 +17,11 @@ struct GeometryInputOptions {
 
 /// \brief Reads `path` as points: a cloud as it is with non-finite points dropped, a mesh
 /// sampled (seeded) then voxelized at the resolution (voxel centres on the map's lattice,
-/// the ground truth of trials), an octree's occupied voxel centres. `what` names the input in
-/// messages ("reference"); `summary` receives a one-line description of what was done.
-/// An octree without occupied voxels gives an empty cloud (an empty reconstruction).
-/// \throws plantnbv::Error subclasses on unreadable files and on a cloud file without
-/// finite points.
+/// the ground truth of trials), an octree's occupied voxel centres. `what` names the
+/// input in messages ("reference"); `summary` receives a one-line description of what was
+/// done. An octree without occupied voxels gives an empty cloud (an empty
+/// reconstruction). \throws plantnbv::Error subclasses on unreadable files and on a cloud
+/// file without finite points.
 void loadGeometryAsCloud(const std::string& path, const std::string& what,
                          const GeometryInputOptions& options, CloudXYZ& cloud,
                          std::string& summary);

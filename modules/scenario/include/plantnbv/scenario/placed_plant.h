@@ -8,6 +8,7 @@
 #include <map>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include <Eigen/Core>
 
@@ -17,6 +18,10 @@
 
 namespace plantnbv {
 namespace scenario {
+
+/// \brief The largest turn of a plant about its stem, either way: one revolution
+/// (degrees).
+constexpr double kMaxPlantYawDeg = 360.0;
 
 /// \brief Where a plant comes from and where it stands. Set a seed or a model.
 struct PlantSource {
@@ -28,7 +33,7 @@ struct PlantSource {
   std::string labels; ///< part label rules of a mesh, e.g. "stem=Branch.*,leaflet=Leaf.*"
   std::string rois;   ///< ROI file of a model (world frame): the level "model_rois"
   bool keep_frame = false; ///< a model: keep the file's coordinates (no base, no yaw)
-  double yaw_deg = 0.0;    ///< turn about the stem (degrees)
+  double yaw_deg = 0.0;    ///< turn about the stem (degrees), within +-kMaxPlantYawDeg
   Eigen::Vector3d base{1.0, 0.0, 0.8}; ///< plant base, world frame (Table 1 of the paper)
 };
 
@@ -42,6 +47,9 @@ struct PlacedPlant {
   /// The boxes of PlantSource::rois (a model's own ROI file); empty otherwise.
   Roi model_rois;
   std::string description; ///< e.g. "seed 3, growth stage 0.333"
+  /// What the user should hear about the source, one line each, e.g. a label rule that
+  /// labelled nothing. Empty for a generated plant.
+  std::vector<std::string> warnings;
 
   /// \brief The ROI of `kind`, or nullptr when the plant has none.
   const Roi* roi(RoiKind kind) const;
@@ -51,7 +59,8 @@ struct PlacedPlant {
 /// `yaw_deg` about its stem (a model: the centre of its bounding box's bottom face is the
 /// base, unless keep_frame).
 /// \throws InvalidArgumentError for a source with neither or both of seed and model,
-/// labels or rois without a model, a non-finite base or yaw; the io and plant errors of
+/// labels or rois without a model, a non-finite base, a yaw outside [-kMaxPlantYawDeg,
+/// kMaxPlantYawDeg]; the io and plant errors of
 /// the files and the generator.
 PlacedPlant makePlacedPlant(const PlantSource& source);
 

@@ -76,11 +76,20 @@ struct TrialOverrides {
 };
 
 /// \brief The trial config of `placed`: the file, the overrides, the sector fitted to
-/// the plant, validated. `candidates_name` names the candidate count in messages
-/// ("--candidates"). \throws as loadTrialConfig, setCandidateCount and
-/// TrialConfig::validate.
+/// the plant, validated. Messages name an override as `option_prefix` + its name
+/// ("--" for the command line: "--candidates").
+/// \throws InvalidArgumentError for a pattern with a planner other than predefined (it
+/// would be ignored); as loadTrialConfig, setCandidateCount and TrialConfig::validate.
 TrialConfig makeTrialConfig(const TrialOverrides& overrides, const PlacedPlant& placed,
-                            const std::string& candidates_name = "candidates");
+                            const std::string& option_prefix = "");
+
+/// \brief What a user should hear before a trial runs, one line each: a map resolution
+/// that gives fewer than 2 voxels across the smallest side of a level's boxes (its
+/// scores say little), and an NBV attention ROI that does not meet the plant's bounding
+/// box (the planner would attend to empty space). Empty when neither holds.
+std::vector<std::string> trialWarnings(const PlacedPlant& placed,
+                                       const TrialConfig& config, const Roi& attention,
+                                       const std::vector<EvaluationLevel>& levels);
 
 /// \brief Gives `trial` the plant, the attention ROI and the levels.
 void setUpTrial(const PlacedPlant& placed, const Roi& attention,
