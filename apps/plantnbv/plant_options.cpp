@@ -32,8 +32,9 @@ void addPlantOptions(CLI::App& cmd, PlantOptions& o, const std::string& seed_fla
   cmd.add_option("--labels", s.labels,
                  "Part labels from node names, e.g. stem=Branch.*,leaflet=Leaf.*")
       ->needs(model);
-  cmd.add_option("--rois", s.rois, "ROI file (YAML boxes, world frame) for the model")
-      ->needs(model);
+  cmd.add_option("--rois", s.rois,
+                 "Your own ROI file (YAML boxes, world frame), scored as the level "
+                 "model_rois");
   auto* keep = cmd.add_flag("--keep-frame", s.keep_frame,
                             "Keep the model file's coordinates (no --base, --yaw-deg)")
                    ->needs(model);

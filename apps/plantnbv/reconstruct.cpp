@@ -101,7 +101,12 @@ nlohmann::json summaryJson(const ReconstructOptions& o, const PlacedPlant& place
 {
   nlohmann::json j;
   j["tool"] = {{"version", toolVersion()}, {"commit", toolCommit()}};
-  j["plant"] = {{"name", placed.plant.name}, {"description", placed.description}};
+  j["plant"] = {
+      {"name", placed.plant.name},
+      {"description", placed.description},
+      {"yaw_deg", placed.source.yaw_deg},
+      {"base", {placed.source.base.x(), placed.source.base.y(), placed.source.base.z()}},
+      {"keep_frame", placed.source.keep_frame}};
   const CylindricalSector& sector = trial.getSector();
   j["config"] = {
       {"planner", plannerKindName(c.planner)},
@@ -110,7 +115,15 @@ nlohmann::json summaryJson(const ReconstructOptions& o, const PlacedPlant& place
       {"views", c.views},
       {"candidates", c.grid_rows * c.grid_cols * c.samples_per_cell},
       {"seed", c.seed},
-      {"camera", c.camera.toString()},
+      {"camera",
+       {{"width", c.camera.width},
+        {"height", c.camera.height},
+        {"fx", c.camera.fx},
+        {"fy", c.camera.fy},
+        {"cx", c.camera.cx},
+        {"cy", c.camera.cy},
+        {"min_range", c.camera.min_range_m},
+        {"max_range", c.camera.max_range_m}}},
       {"noise", c.noise.enabled},
       {"depth_scale", c.depth_scale},
       {"resolution", c.map.resolution_m},
@@ -121,7 +134,8 @@ nlohmann::json summaryJson(const ReconstructOptions& o, const PlacedPlant& place
        {{"axis_base", {sector.axis_base.x(), sector.axis_base.y(), sector.axis_base.z()}},
         {"radius", sector.radius_m},
         {"height", sector.height_m},
-        {"angle_deg", sector.angle_rad * 180.0 / M_PI}}},
+        // Rounded for people: 90, not 89.999999999999986 (radians in, degrees out).
+        {"angle_deg", std::round(sector.angle_rad * 180.0 / M_PI * 1e9) / 1e9}}},
       {"config_file", o.trial.config_file},
   };
   // What `plantnbv sample --voxel RES --seed SEED` needs to draw the same ground truth.
@@ -288,6 +302,9 @@ void runReconstruct(const ReconstructOptions& o)
   if (o.snapshot) {
     renderSnapshot(placed, config, result, occupied, (dir / "snapshot.png").string());
     std::cout << ", snapshot.png";
+  } else if (std::filesystem::remove(dir / "snapshot.png", ec)) {
+    // The folder holds this run's results only: an earlier run's picture would lie.
+    std::cout << "; removed an earlier run's snapshot.png";
   }
   std::cout << "\n";
 }

@@ -22,6 +22,7 @@
 #include <pcl/point_cloud.h>
 #include <pcl/point_types.h>
 
+#include <plantnbv/camera/camera_intrinsics.h>
 #include <plantnbv/io/cloud_io.h>
 #include <plantnbv/io/frames_folder.h>
 #include <plantnbv/io/mesh_io.h>
@@ -1098,6 +1099,29 @@ TEST_F(CliTest, TheReadmeGroundTruthRecipeGivesTheTrialsScore)
                 .code,
             0);
   EXPECT_NE(slurp(path("centroids.pcd")), slurp(path("gt.pcd")));
+}
+
+TEST_F(CliTest, ASecondRunInTheSameFolderLeavesOnlyItsOwnResults)
+{
+  // A run with a snapshot, then one without it in the same folder: the old picture goes.
+  const std::string trial = "reconstruct --plant 1 --views 1 -o " + path("t");
+  ASSERT_EQ(run(trial + " --snapshot").code, 0);
+  ASSERT_TRUE(fs::exists(path("t/snapshot.png")));
+  // The second with the user's own boxes on the generated plant, scored as model_rois.
+  const ToolRun again = run(trial + " --rois " + kFixtures + "/rois.yaml --yaw-deg 30");
+  ASSERT_EQ(again.code, 0) << again.err;
+  EXPECT_FALSE(fs::exists(path("t/snapshot.png")));
+  EXPECT_NE(again.out.find("removed an earlier run's snapshot.png"), std::string::npos)
+      << again.out;
+  const auto summary = nlohmann::json::parse(slurp(path("t/summary.json")));
+  EXPECT_TRUE(summary["levels"].contains("model_rois")) << summary["levels"];
+  // For people and programs: the camera as numbers, the angle rounded, the placement.
+  EXPECT_EQ(summary["config"]["camera"]["width"], 640);
+  EXPECT_EQ(summary["config"]["camera"]["fx"].get<double>(),
+            plantnbv::CameraIntrinsics::l515(plantnbv::L515Mode::vga_640x480).fx);
+  EXPECT_EQ(summary["config"]["sector"]["angle_deg"], 90.0);
+  EXPECT_EQ(summary["plant"]["yaw_deg"], 30.0);
+  EXPECT_EQ(summary["plant"]["base"], nlohmann::json::array({1.0, 0.0, 0.8}));
 }
 
 TEST_F(CliTest, InputsThatWouldGiveMeaninglessResultsAreWarnedAbout)

@@ -58,6 +58,11 @@ TEST(PlacedPlant, BadSourcesAreRefusedNamingTheField)
   labels.labels = "stem=.*";
   EXPECT_NE(errorOf([&] { makePlacedPlant(labels); }).find("belong to a model file"),
             std::string::npos);
+  // The user's own boxes go with a generated plant too: the level model_rois.
+  PlantSource own_boxes;
+  own_boxes.seed = 1;
+  own_boxes.rois = std::string(PLANTNBV_DATA_DIR) + "/fixtures/rois.yaml";
+  EXPECT_EQ(makePlacedPlant(own_boxes).model_rois.size(), 3u);
   PlantSource staged;
   staged.model = "x.dae";
   staged.stage = 0.5;

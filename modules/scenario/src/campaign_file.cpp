@@ -78,8 +78,8 @@ void readPlants(const YamlReader& r, const YAML::Node& node, const std::string& 
       plants.push_back(plant);
       continue;
     }
-    if (!plant.labels.empty() || !plant.rois.empty())
-      r.fail(p, "labels and rois belong to a model file");
+    if (!plant.labels.empty())
+      r.fail(p + ".labels", "label rules belong to a model file");
     if (named && seeds.size() > 1)
       r.fail(p + ".name", "one name for several seeds");
     for (std::uint64_t seed : seeds) {

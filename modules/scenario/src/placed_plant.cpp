@@ -32,9 +32,9 @@ void checkSource(const PlantSource& s)
   if (s.seed.has_value() == !s.model.empty())
     throw InvalidArgumentError(s.seed ? "plant source: a seed and a model file; give one"
                                       : "plant source: give a seed or a model file");
-  if (s.seed && (!s.labels.empty() || !s.rois.empty() || s.keep_frame))
+  if (s.seed && (!s.labels.empty() || s.keep_frame))
     throw InvalidArgumentError(
-        "plant source: labels, rois and keep_frame belong to a model file");
+        "plant source: labels and keep_frame belong to a model file");
   if (!s.model.empty() && (s.stage || s.simplified))
     throw InvalidArgumentError(
         "plant source: stage and simplified belong to a generated plant");
@@ -122,8 +122,7 @@ PlacedPlant modelPlant(const PlantSource& s, double yaw_rad)
   if (!s.keep_frame)
     posePlant(out.plant, s.base, yaw_rad);
   out.rois.emplace(RoiKind::whole_plant, boundingBoxRoi(out.plant));
-  if (!s.rois.empty())
-    out.model_rois = io::loadRoi(s.rois);
+
   std::ostringstream d;
   d << "model " << s.model << (s.labels.empty() ? "" : ", labelled by name")
     << (s.keep_frame ? ", file frame kept" : "");
@@ -139,6 +138,8 @@ PlacedPlant makePlacedPlant(const PlantSource& source)
   const double yaw_rad = source.yaw_deg * M_PI / 180.0;
   PlacedPlant placed =
       source.seed ? generatedPlant(source, yaw_rad) : modelPlant(source, yaw_rad);
+  if (!source.rois.empty()) // the user's boxes, generated plant or model
+    placed.model_rois = io::loadRoi(source.rois);
   placed.source = source;
   return placed;
 }

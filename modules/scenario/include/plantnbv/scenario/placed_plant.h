@@ -31,7 +31,7 @@ struct PlantSource {
   std::string
       model; ///< or a mesh (.dae .obj .ply .stl .wrl) or scanned cloud (.pcd .ply)
   std::string labels; ///< part label rules of a mesh, e.g. "stem=Branch.*,leaflet=Leaf.*"
-  std::string rois;   ///< ROI file of a model (world frame): the level "model_rois"
+  std::string rois;   ///< the user's ROI file (world frame): the level "model_rois"
   bool keep_frame = false; ///< a model: keep the file's coordinates (no base, no yaw)
   double yaw_deg = 0.0;    ///< turn about the stem (degrees), within +-kMaxPlantYawDeg
   Eigen::Vector3d base{1.0, 0.0, 0.8}; ///< plant base, world frame (Table 1 of the paper)
@@ -44,7 +44,7 @@ struct PlacedPlant {
   /// The plant's own ROIs, world frame: every kind for a generated plant (fruit only
   /// when it has fruit); whole_plant (the bounding box) for a model.
   std::map<RoiKind, Roi> rois;
-  /// The boxes of PlantSource::rois (a model's own ROI file); empty otherwise.
+  /// The boxes of PlantSource::rois (the user's ROI file); empty otherwise.
   Roi model_rois;
   std::string description; ///< e.g. "seed 3, growth stage 0.333"
   /// What the user should hear about the source, one line each, e.g. a label rule that
@@ -59,9 +59,9 @@ struct PlacedPlant {
 /// `yaw_deg` about its stem (a model: the centre of its bounding box's bottom face is the
 /// base, unless keep_frame).
 /// \throws InvalidArgumentError for a source with neither or both of seed and model,
-/// labels or rois without a model, a non-finite base, a yaw outside [-kMaxPlantYawDeg,
-/// kMaxPlantYawDeg]; the io and plant errors of
-/// the files and the generator.
+/// labels or keep_frame without a model, a non-finite base, a yaw outside
+/// [-kMaxPlantYawDeg, kMaxPlantYawDeg]; the io and plant errors of the files and the
+/// generator.
 PlacedPlant makePlacedPlant(const PlantSource& source);
 
 } // namespace scenario
