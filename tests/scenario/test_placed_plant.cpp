@@ -11,6 +11,7 @@
 using namespace plantnbv;
 using namespace plantnbv::scenario;
 using plantnbv::test::errorOf;
+using plantnbv::test::ScenarioFiles;
 
 TEST(PlacedPlant, AGeneratedPlantStandsAtItsBaseWithItsRois)
 {
@@ -79,4 +80,25 @@ TEST(PlacedPlant, BadSourcesAreRefusedNamingTheField)
   PlantSource missing;
   missing.model = "/nonexistent/plant.dae";
   EXPECT_THROW(makePlacedPlant(missing), Error);
+}
+
+TEST_F(ScenarioFiles, AScansLabelsBeyondOursAreBackgroundWithAWarning)
+{
+  // Labels 0-6 are ours; a data set's 7 and 9 are read as background, and said so.
+  std::string pcd = "# .PCD v0.7\nVERSION 0.7\nFIELDS x y z label\nSIZE 4 4 4 4\n"
+                    "TYPE F F F U\nCOUNT 1 1 1 1\nWIDTH 4\nHEIGHT 1\n"
+                    "VIEWPOINT 0 0 0 1 0 0 0\nPOINTS 4\nDATA ascii\n";
+  for (const int label : {1, 7, 3, 9})
+    pcd += "0 0 " + std::to_string(0.1 * label) + " " + std::to_string(label) + "\n";
+  PlantSource source;
+  source.model = write("scan.pcd", pcd);
+  const PlacedPlant placed = makePlacedPlant(source);
+  ASSERT_EQ(placed.warnings.size(), 1u);
+  EXPECT_EQ(placed.warnings[0],
+            "2 points of '" + source.model +
+                "' have a label above 6 (ours: 0 unknown to 6 "
+                "background; docs/plants.md) and are read as background");
+  std::vector<PartLabel> expected = {PartLabel::stem, PartLabel::background,
+                                     PartLabel::leaflet, PartLabel::background};
+  EXPECT_EQ(placed.plant.scan_labels, expected);
 }

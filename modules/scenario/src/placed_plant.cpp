@@ -75,18 +75,28 @@ PlacedPlant generatedPlant(const PlantSource& s, double yaw_rad)
   return out;
 }
 
-/// A scan keeps its points; labels come from its label field.
-Plant scannedPlant(const std::string& path, const std::string& name, bool keep_frame)
+/// A scan keeps its points; labels come from its label field. A label beyond ours (a
+/// data set's own numbering) is read as background and counted in `warnings`.
+Plant scannedPlant(const std::string& path, const std::string& name, bool keep_frame,
+                   std::vector<std::string>& warnings)
 {
   CloudXYZL cloud;
   io::loadCloud(path, cloud);
+  constexpr auto kLast = static_cast<std::uint32_t>(PartLabel::background);
   std::vector<Eigen::Vector3f> points;
   std::vector<PartLabel> labels;
+  std::size_t foreign = 0;
   for (const auto& p : cloud)
     if (std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z)) {
       points.push_back(p.getVector3fMap());
-      labels.push_back(static_cast<PartLabel>(std::min<std::uint32_t>(p.label, 6)));
+      foreign += p.label > kLast;
+      labels.push_back(static_cast<PartLabel>(std::min<std::uint32_t>(p.label, kLast)));
     }
+  if (foreign > 0)
+    warnings.push_back(std::to_string(foreign) + " points of '" + path +
+                       "' have a label above " + std::to_string(kLast) +
+                       " (ours: 0 unknown to 6 background; docs/plants.md) and are read "
+                       "as background");
   return plantFromScan(std::move(points), std::move(labels), name, keep_frame);
 }
 
@@ -114,7 +124,7 @@ PlacedPlant modelPlant(const PlantSource& s, double yaw_rad)
     if (!s.labels.empty())
       throw InvalidArgumentError("label rules map mesh node names; the scan '" + s.model +
                                  "' has none (its labels come from its label field)");
-    out.plant = scannedPlant(s.model, name, s.keep_frame);
+    out.plant = scannedPlant(s.model, name, s.keep_frame, out.warnings);
     break;
   case io::FileKind::octree:
     throw FormatError("model '" + s.model + "' is an octree; expected a mesh or a cloud");

@@ -47,8 +47,8 @@ struct PlacedPlant {
   /// The boxes of PlantSource::rois (the user's ROI file); empty otherwise.
   Roi model_rois;
   std::string description; ///< e.g. "seed 3, growth stage 0.333"
-  /// What the user should hear about the source, one line each, e.g. a label rule that
-  /// labelled nothing. Empty for a generated plant.
+  /// What the user should hear about the source, one line each: a label rule that
+  /// labelled nothing, a scan's labels beyond ours. Empty for a generated plant.
   std::vector<std::string> warnings;
 
   /// \brief The ROI of `kind`, or nullptr when the plant has none.
