@@ -67,6 +67,17 @@ std::string clockText(double seconds)
   return buffer;
 }
 
+/// ", ETA 4:10" while trials are left to run ("?" before the first has run), else "".
+std::string etaText(const CampaignProgress& p)
+{
+  if (p.stopping || p.to_run <= p.ran)
+    return "";
+  if (p.ran == 0)
+    return ", ETA ?";
+  // Trials run at `workers` at a time; the rate so far includes that.
+  return ", ETA " + clockText(p.elapsed_s / double(p.ran) * double(p.to_run - p.ran));
+}
+
 /// "[#####.....] 37/120 trials, 1 failed, 2:31 elapsed, ETA 4:10".
 std::string progressLine(const CampaignProgress& p)
 {
@@ -79,13 +90,7 @@ std::string progressLine(const CampaignProgress& p)
                      clockText(p.elapsed_s) + " elapsed";
   if (p.stopping)
     line += ", stopping: waiting for " + std::to_string(p.running) + " running";
-  else if (p.ran > 0 && p.to_run > p.ran) {
-    // Trials run at `workers` at a time; the rate so far includes that.
-    const double eta = p.elapsed_s / double(p.ran) * double(p.to_run - p.ran);
-    line += ", ETA " + clockText(eta);
-  } else if (p.to_run > p.ran)
-    line += ", ETA ?";
-  return line;
+  return line + etaText(p);
 }
 
 struct RunOptions {
@@ -153,10 +158,12 @@ void runCampaign(const RunOptions& o)
         std::cout << "\r\033[Kfailed: " << p.id << ": " << p.error << "\n"
                   << progressLine(p) << std::flush;
     } else if (p.event == CampaignProgress::Event::finished) {
+      // A log (nohup, Slurm): one line a trial, with the totals a terminal's bar shows.
       std::cout << "[" << p.skipped + p.ran << "/" << p.total << "] " << p.id
                 << (p.trial_failed ? " failed: " + p.error : std::string(" done"))
                 << " in " << std::fixed << std::setprecision(1) << p.trial_s
-                << std::defaultfloat << " s" << std::endl;
+                << std::defaultfloat << " s; " << p.failed << " failed, "
+                << clockText(p.elapsed_s) << " elapsed" << etaText(p) << std::endl;
     }
   });
   g_stop = false;

@@ -512,6 +512,15 @@ TEST_F(CliTest, CampaignKilledRunResumesWithEveryTrialDoneOnce)
   EXPECT_NE(ref.out.find("12 of 12 trials done"), std::string::npos) << ref.out;
   // Not a terminal: one plain line per finished trial.
   EXPECT_NE(ref.out.find("[12/12] "), std::string::npos) << ref.out;
+  // Not a terminal: each trial's line carries the failures, the time and the ETA.
+  EXPECT_TRUE(std::regex_search(
+      ref.out, std::regex("\\[1/12\\] [^\n]+ done in [0-9.]+ s; 0 failed, "
+                          "[0-9]+:[0-9]{2} elapsed, ETA [0-9]+:[0-9]{2}\n")))
+      << ref.out;
+  EXPECT_TRUE(std::regex_search(
+      ref.out, std::regex("\\[12/12\\] [^\n]+ done in [0-9.]+ s; 0 failed, "
+                          "[0-9]+:[0-9]{2} elapsed\n")))
+      << ref.out; // nothing left: no ETA
 
   // Kill -9 the run at random points, several times (the first time only once a result
   // exists): every finished trial must survive each kill unchanged, and every result
