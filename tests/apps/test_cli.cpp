@@ -1162,6 +1162,17 @@ TEST_F(CliTest, InputsThatWouldGiveMeaninglessResultsAreWarnedAbout)
             0u)
       << r.err;
   EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+  // Two boxes on either side of the plant: their union spans it, neither meets it.
+  write("sides.yaml", "boxes:\n  - center: [0.5, 0, 1]\n    size: [0.05, 0.05, 0.05]\n"
+                      "  - center: [1.5, 0, 1]\n    size: [0.05, 0.05, 0.05]\n");
+  r = run("reconstruct --plant 1 --views 1 --attention " + path("sides.yaml") + " -o " +
+          path("sides"));
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_EQ(r.err.rfind("plantnbv: warning: the attention ROI, (0.475, -0.025, 0.975) to "
+                        "(1.52, 0.025, 1.02), does not meet the plant",
+                        0),
+            0u)
+      << r.err;
   // eval of clouds that hardly overlap (another frame), and of clouds that do.
   writeLattice("a.pcd", 0.0f);
   writeLattice("b.pcd", 0.04f); // 1/64 m lattice, 0.047 m wide: moved by most of it

@@ -153,8 +153,12 @@ std::vector<std::string> trialWarnings(const PlacedPlant& placed,
     Eigen::Vector3f lo, hi;
     placed.plant.bounds(lo, hi);
     const Box roi = attention.boundingBox();
-    const bool apart = (roi.max().array() < lo.cast<double>().array()).any() ||
-                       (roi.min().array() > hi.cast<double>().array()).any();
+    // No box meets the plant (their union's bounding box may, between them).
+    const bool apart = std::none_of(
+        attention.boxes().begin(), attention.boxes().end(), [&](const Box& b) {
+          return (b.max().array() >= lo.cast<double>().array()).all() &&
+                 (b.min().array() <= hi.cast<double>().array()).all();
+        });
     if (apart) {
       std::ostringstream s;
       s << std::setprecision(3);

@@ -85,8 +85,8 @@ TrialConfig makeTrialConfig(const TrialOverrides& overrides, const PlacedPlant& 
 
 /// \brief What a user should hear before a trial runs, one line each: a map resolution
 /// that gives fewer than 2 voxels across the smallest side of a level's boxes (its
-/// scores say little), and an NBV attention ROI that does not meet the plant's bounding
-/// box (the planner would attend to empty space). Empty when neither holds.
+/// scores say little), and an NBV attention ROI none of whose boxes meets the plant's
+/// bounding box (the planner would attend to empty space). Empty when neither holds.
 std::vector<std::string> trialWarnings(const PlacedPlant& placed,
                                        const TrialConfig& config, const Roi& attention,
                                        const std::vector<EvaluationLevel>& levels);
