@@ -8,7 +8,7 @@
 # Also: a drained node keeps the tasks pending (status counts them, a second submit is
 # refused) and sbatch refusing a job (unknown partition) is one line. Always stops
 # exactly the daemons it started (and any job they left), even on failure.
-# Needs root and the packages slurmd slurmctld slurm-client munge (scripts/install-deps);
+# Needs root and the packages slurmd slurmctld slurm-client munge (scripts/install-deps --test);
 # it installs nothing. Environment: PLANTNBV_SLURM_TEST_TRIALS_PER_TASK (default 2).
 set -euo pipefail
 
@@ -33,7 +33,7 @@ for p in munged munge unmunge mungekey slurmctld slurmd sbatch squeue sinfo scon
   command -v "$p" >/dev/null 2>&1 || missing+=("$p")
 done
 [ ${#missing[@]} -eq 0 ] ||
-  fail "Slurm is not installed (missing: ${missing[*]}): run scripts/install-deps (packages slurmd slurmctld slurm-client munge)"
+  fail "Slurm is not installed (missing: ${missing[*]}): run scripts/install-deps --test (packages slurmd slurmctld slurm-client munge)"
 [ "$(id -u)" -eq 0 ] || fail "must run as root: it starts munged, slurmctld and slurmd"
 [ -x "$TOOL" ] || fail "no plantnbv binary at '$TOOL'"
 [ -x "$COMPARE" ] || fail "no compare_campaign_results binary at '$COMPARE'"

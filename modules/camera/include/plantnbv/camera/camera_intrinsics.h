@@ -55,10 +55,13 @@ struct CameraIntrinsics {
   static CameraIntrinsics custom(std::uint32_t width, std::uint32_t height, double fx,
                                  double fy, double cx, double cy);
 
-  /// \brief Horizontal and vertical field of view (rad), edge to edge of the image
-  /// (pixel borders at u = -0.5 and u = width - 0.5).
+  /// \brief Horizontal field of view (rad), edge to edge of the image (pixel borders at
+  /// u = -0.5 and u = width - 0.5).
   double horizontalFov() const;
+  /// \brief Vertical field of view (rad), edge to edge of the image (pixel borders at
+  /// v = -0.5 and v = height - 0.5).
   double verticalFov() const;
+  /// \brief width x height.
   std::size_t pixelCount() const { return std::size_t(width) * height; }
 
   /// \brief Checks every field. \throws InvalidArgumentError naming the first bad field

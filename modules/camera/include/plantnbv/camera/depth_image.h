@@ -15,12 +15,13 @@ namespace plantnbv {
 
 /// \brief A depth image: row-major, width x height, pixel (u, v) at v * width + u.
 struct DepthImage {
-  std::uint32_t width = 0;
-  std::uint32_t height = 0;
+  std::uint32_t width = 0;  ///< pixels (columns)
+  std::uint32_t height = 0; ///< pixels (rows)
   /// Depth (metres): z of the point in the optical frame (not the range along the ray),
   /// as depth cameras report it; NaN where the pixel has no return.
   std::vector<float> depth_m;
 
+  /// \brief The depth (metres, NaN: no return) at column u, row v; unchecked.
   float at(std::uint32_t u, std::uint32_t v) const
   {
     return depth_m[std::size_t(v) * width + u];

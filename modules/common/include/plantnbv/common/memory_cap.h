@@ -12,6 +12,7 @@
 
 namespace plantnbv {
 
+/// \brief Bytes in a GiB (2^30).
 constexpr double kBytesPerGib = 1024.0 * 1024.0 * 1024.0;
 
 /// \brief The memory, in bytes, that commands and trials may plan to allocate unless

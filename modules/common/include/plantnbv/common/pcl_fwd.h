@@ -14,8 +14,12 @@ class PointCloud;
 } // namespace pcl
 
 namespace plantnbv {
+/// \brief A cloud of points (x, y, z in metres).
 using CloudXYZ = pcl::PointCloud<pcl::PointXYZ>;
+/// \brief A cloud of points with a label each (a PartLabel, triangle_mesh.h).
 using CloudXYZL = pcl::PointCloud<pcl::PointXYZL>;
+/// \brief A shared read-only CloudXYZ.
 using CloudXYZConstPtr = std::shared_ptr<const CloudXYZ>;
+/// \brief A shared read-only CloudXYZL.
 using CloudXYZLConstPtr = std::shared_ptr<const CloudXYZL>;
 } // namespace plantnbv

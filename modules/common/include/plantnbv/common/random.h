@@ -19,6 +19,7 @@ std::uint64_t deriveSeed(std::uint64_t base_seed, std::uint64_t id);
 /// \brief A seeded random generator with portable draws.
 class Rng {
 public:
+  /// \brief A generator whose draws depend only on `seed` (mixed by mixSeed first).
   explicit Rng(std::uint64_t seed) : engine_(mixSeed(seed)) {}
 
   /// \brief Uniform in [0, 1), 53 random bits.

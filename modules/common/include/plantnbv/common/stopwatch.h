@@ -9,6 +9,7 @@ namespace plantnbv {
 /// \brief Milliseconds since construction (steady clock).
 class Stopwatch {
 public:
+  /// \brief Milliseconds elapsed since construction.
   double ms() const
   {
     return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() -

@@ -35,14 +35,17 @@ PartLabel partLabelFromName(const std::string& name);
 /// index `node_names`: the names of the scene-graph nodes or meshes a file gave, kept so
 /// that parts can be labelled afterwards by name.
 struct TriangleMesh {
-  std::vector<Eigen::Vector3f> vertices;
-  std::vector<std::array<std::uint32_t, 3>> triangles;
-  std::vector<PartLabel> labels;
-  std::vector<std::uint32_t> node_ids;
-  std::vector<std::string> node_names;
+  std::vector<Eigen::Vector3f> vertices;               ///< world frame, metres
+  std::vector<std::array<std::uint32_t, 3>> triangles; ///< three indices into `vertices`
+  std::vector<PartLabel> labels;       ///< one per triangle, or empty (unlabelled)
+  std::vector<std::uint32_t> node_ids; ///< one per triangle (into `node_names`), or empty
+  std::vector<std::string> node_names; ///< the file's node or mesh names
 
+  /// \brief The number of triangles.
   std::size_t size() const { return triangles.size(); }
+  /// \brief True if the mesh has no triangle.
   bool empty() const { return triangles.empty(); }
+  /// \brief True if the triangles carry part labels.
   bool hasLabels() const { return !labels.empty(); }
 
   /// \brief The triangle's area in square metres.

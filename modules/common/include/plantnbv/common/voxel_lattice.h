@@ -45,6 +45,7 @@ public:
   {
   }
 
+  /// \brief The voxel edge in metres.
   double resolution() const { return resolution_m_; }
   /// 1 / resolution, computed as OctoMap does.
   double resolutionFactor() const { return resolution_factor_; }

@@ -17,22 +17,27 @@ namespace plantnbv {
 
 /// \brief Where a run stands; passed to the progress callback.
 struct CampaignProgress {
-  enum class Event { started, finished, tick };
-  Event event = Event::started;
-  std::size_t total = 0;   ///< trials of the run (its chunk)
-  std::size_t skipped = 0; ///< already done before the run
-  std::size_t to_run = 0;  ///< total - skipped
-  std::size_t ran = 0;     ///< finished in this run (done or failed)
-  std::size_t failed = 0;  ///< failed in this run
-  std::size_t running = 0; ///< trials on the workers now
-  int workers = 0;
-  double elapsed_s = 0.0; ///< since the run started
-  bool stopping = false;  ///< the stop flag was seen: no new trials are started
+  /// \brief Why the callback is called.
+  enum class Event {
+    started,  ///< once, before the first trial
+    finished, ///< a trial finished (done or failed): see id, trial_failed, error
+    tick,     ///< about once a second while trials run
+  };
+  Event event = Event::started; ///< why this call
+  std::size_t total = 0;        ///< trials of the run (its chunk)
+  std::size_t skipped = 0;      ///< already done before the run
+  std::size_t to_run = 0;       ///< total - skipped
+  std::size_t ran = 0;          ///< finished in this run (done or failed)
+  std::size_t failed = 0;       ///< failed in this run
+  std::size_t running = 0;      ///< trials on the workers now
+  int workers = 0;              ///< worker threads of the run
+  double elapsed_s = 0.0;       ///< since the run started
+  bool stopping = false;        ///< the stop flag was seen: no new trials are started
   // Event::finished only: the trial that just finished.
-  std::string id;
-  bool trial_failed = false;
-  std::string error;
-  double trial_s = 0.0;
+  std::string id;            ///< finished only: the trial's id
+  bool trial_failed = false; ///< finished only: whether it failed
+  std::string error;         ///< finished only: its error if it failed
+  double trial_s = 0.0;      ///< finished only: its run time, seconds
 };
 
 /// \brief A local executor: N worker threads take the next trial that is not done, run
@@ -42,7 +47,9 @@ struct CampaignProgress {
 /// Trials already done in the store are skipped (failed ones are run again).
 class LocalRunner {
 public:
+  /// \brief Runs one trial of the campaign into its result; throws if it fails.
   using TrialFunction = std::function<void(const TrialSpec&, TrialResult&)>;
+  /// \brief Receives the progress (see setProgressCallback).
   using ProgressCallback = std::function<void(const CampaignProgress&)>;
 
   /// \param[in] workers threads; 0: std::thread::hardware_concurrency().
@@ -59,6 +66,7 @@ public:
   /// \brief Runs the trials of `specs` that are not done. Returns the last progress.
   CampaignProgress run(const std::vector<TrialSpec>& specs);
 
+  /// \brief The worker threads (hardware_concurrency() when 0 was given).
   int workers() const { return workers_; }
 
 private:

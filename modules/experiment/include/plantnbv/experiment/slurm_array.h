@@ -51,12 +51,12 @@ struct SlurmArrayConfig {
 
   /// \throws InvalidArgumentError naming the field and value: tasks 0, max_parallel < 0,
   /// a relative path, a partition or time limit that is not Slurm's syntax, a job name
-  /// or log directory with characters an #SBATCH line cannot hold (white space, quotes,
+  /// or log directory with characters an `#SBATCH` line cannot hold (white space, quotes,
   /// '\\', '%').
   void validate() const;
 };
 
-/// \brief The sbatch script: #SBATCH lines (--job-name, --array=0-(T-1)[%M],
+/// \brief The sbatch script: `#SBATCH` lines (--job-name, --array=0-(T-1)[%M],
 /// --partition, --time, --ntasks=1, --cpus-per-task=1, --output and --error one pair
 /// per task) and a body that runs `EXE campaign run-chunk FILE -o DIR --base-dir B
 /// --task-file F --task $SLURM_ARRAY_TASK_ID -j 1`, every path single-quoted.
@@ -81,9 +81,10 @@ std::string parseSbatchJobId(const std::string& parsable_output);
 /// \brief Array tasks of a job by state, counted from `squeue -h -r -o %T` (one state a
 /// line).
 struct SlurmQueueCounts {
-  std::size_t pending = 0;
-  std::size_t running = 0;
-  std::size_t other = 0; ///< completing, configuring, suspended, ...
+  std::size_t pending = 0; ///< PENDING lines
+  std::size_t running = 0; ///< RUNNING lines
+  std::size_t other = 0;   ///< completing, configuring, suspended, ...
+  /// \brief All tasks still in the queue: pending + running + other.
   std::size_t queued() const { return pending + running + other; }
 };
 

@@ -30,9 +30,11 @@ class RoiCrop : public pcl::FilterIndices<PointT> {
   using PointCloud = typename pcl::FilterIndices<PointT>::PointCloud;
 
 public:
-  using Ptr = std::shared_ptr<RoiCrop<PointT>>;
-  using ConstPtr = std::shared_ptr<const RoiCrop<PointT>>;
+  using Ptr = std::shared_ptr<RoiCrop<PointT>>;            ///< shared filter
+  using ConstPtr = std::shared_ptr<const RoiCrop<PointT>>; ///< shared, read-only
 
+  /// \param[in] extract_removed_indices true: getRemovedIndices() gives the points the
+  /// last filter() call removed (pcl::FilterIndices' option).
   explicit RoiCrop(bool extract_removed_indices = false)
       : pcl::FilterIndices<PointT>(extract_removed_indices)
   {
@@ -42,9 +44,12 @@ public:
   /// \param[in] roi the boxes to keep (world frame, metres); default: empty (keeps
   /// nothing).
   void setRoi(const Roi& roi) { roi_ = roi; }
+  /// \brief The boxes kept.
   const Roi& getRoi() const { return roi_; }
 
 protected:
+  /// \brief The indices of the points kept (of the removed ones in negative mode), in
+  /// input order; called by pcl::FilterIndices::filter.
   void applyFilter(pcl::Indices& indices) override;
 
 private:

@@ -38,19 +38,21 @@ class VoxelGridFilter : public pcl::Filter<PointT> {
   using PointCloud = typename pcl::Filter<PointT>::PointCloud;
 
 public:
-  using Ptr = std::shared_ptr<VoxelGridFilter<PointT>>;
-  using ConstPtr = std::shared_ptr<const VoxelGridFilter<PointT>>;
+  using Ptr = std::shared_ptr<VoxelGridFilter<PointT>>;            ///< shared filter
+  using ConstPtr = std::shared_ptr<const VoxelGridFilter<PointT>>; ///< shared, read-only
 
   VoxelGridFilter() { this->filter_name_ = "VoxelGridFilter"; }
 
   /// \param[in] leaf edge length of a voxel in metres (default 0.003);
   /// \throws InvalidArgumentError unless finite, > 0 and a finite, non-zero float.
   void setLeafSize(double leaf);
+  /// \brief The voxel edge length in metres.
   double getLeafSize() const { return leaf_; }
 
   /// \param[in] centres true: one point at each occupied voxel's centre; false (default):
   /// the centroid of the voxel's points.
   void setOutputVoxelCentres(bool centres) { centres_ = centres; }
+  /// \brief True if the output is voxel centres, false if centroids.
   bool getOutputVoxelCentres() const { return centres_; }
 
   /// \brief True if the last filter() call could not use pcl::VoxelGrid (its indices
@@ -58,6 +60,8 @@ public:
   bool usedOverflowFallback() const { return used_fallback_; }
 
 protected:
+  /// \brief The filter itself, called by pcl::Filter::filter(output) (see the class
+  /// description).
   void applyFilter(PointCloud& output) override;
 
 private:

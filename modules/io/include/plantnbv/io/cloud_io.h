@@ -29,8 +29,11 @@ namespace io {
 /// it), has no x/y/z fields, a label that is not a non-negative whole number, or the
 /// extension is neither .pcd nor .ply (the message names it and the accepted ones).
 void loadCloud(const std::string& path, CloudXYZ& cloud);
+/// \brief loadCloud() with labels (0 everywhere if the file has no `label` field).
 void loadCloud(const std::string& path, CloudXYZL& cloud);
+/// \brief loadCloud() with `limits` instead of defaultInputLimits().
 void loadCloud(const std::string& path, CloudXYZ& cloud, const InputLimits& limits);
+/// \brief loadCloud() with labels and `limits` instead of defaultInputLimits().
 void loadCloud(const std::string& path, CloudXYZL& cloud, const InputLimits& limits);
 
 /// \brief Writes a .pcd or .ply point cloud, binary by default, that loadCloud (and

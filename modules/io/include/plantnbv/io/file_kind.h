@@ -8,7 +8,12 @@
 namespace plantnbv {
 namespace io {
 
-enum class FileKind { cloud, mesh, octree };
+/// \brief What a file holds, as fileKind() tells it from its name (and PLY header).
+enum class FileKind {
+  cloud,  ///< a point cloud: .pcd, or .ply without faces
+  mesh,   ///< a triangle mesh: .ply with faces, .obj .stl .dae .wrl .vrml
+  octree, ///< an OctoMap: .bt .ot
+};
 
 /// \brief Classifies a file by its extension (case-insensitive) and, for .ply, its
 /// header: .pcd -> cloud; .ply -> mesh if it has a non-empty `face` element, else cloud;

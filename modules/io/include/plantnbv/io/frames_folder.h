@@ -34,10 +34,11 @@ namespace io {
 /// \brief What camera.yaml says: pinhole intrinsics (range limits as CameraIntrinsics'
 /// defaults) and the depth PNGs' units.
 struct CameraInfo {
-  CameraIntrinsics intrinsics;
+  CameraIntrinsics intrinsics; ///< image size, fx fy cx cy (pixels)
   /// Units of the depth PNGs per metre, > 0 (1000: millimetres, RealSense; TUM's own
   /// sequences: 5000). Default 1000.
   double depth_scale = 1000.0;
+  /// As the file names it; only zero distortion coefficients are accepted.
   std::string distortion_model = "plumb_bob";
 };
 
@@ -54,15 +55,15 @@ void writeCameraInfo(const std::string& path, const CameraInfo& info);
 
 /// \brief A line of a TUM file list ("timestamp filename").
 struct StampedFile {
-  double stamp_s = 0.0;
-  std::string file; ///< as written, relative to the folder
-  std::size_t line = 0;
+  double stamp_s = 0.0; ///< timestamp, seconds
+  std::string file;     ///< as written, relative to the folder
+  std::size_t line = 0; ///< its line in the file (from 1), for messages
 };
 /// \brief A line of a TUM trajectory ("timestamp tx ty tz qx qy qz qw").
 struct StampedPose {
-  double stamp_s = 0.0;
-  Pose pose; ///< the quaternion normalized
-  std::size_t line = 0;
+  double stamp_s = 0.0; ///< timestamp, seconds
+  Pose pose;            ///< the quaternion normalized
+  std::size_t line = 0; ///< its line in the file (from 1), for messages
 };
 
 /// \brief Reads depth.txt. Blank lines and lines starting with '#' are skipped; a file
@@ -76,7 +77,7 @@ std::vector<StampedPose> readTumTrajectory(const std::string& path);
 
 /// \brief One depth frame of a folder and its pose.
 struct FrameRecord {
-  double stamp_s = 0.0;
+  double stamp_s = 0.0;   ///< the depth image's timestamp (depth.txt), seconds
   std::string depth_path; ///< the PNG's path (folder + file)
   Pose T_W_O;             ///< the optical frame's pose
   double pose_dt_s = 0.0; ///< |depth stamp - pose stamp|
@@ -113,8 +114,11 @@ public:
   explicit FramesFolder(const std::string& folder,
                         const FramesFolderOptions& options = {});
 
+  /// \brief The folder's path, as given.
   const std::string& folder() const { return folder_; }
+  /// \brief camera.yaml (depth_scale replaced by the options' when they give one).
   const CameraInfo& camera() const { return camera_; }
+  /// \brief The frames, in depth.txt's order, each with its matched pose.
   const std::vector<FrameRecord>& frames() const { return frames_; }
   /// \brief Frames of depth.txt skipped for want of a pose (skip_unmatched).
   std::size_t skippedFrames() const { return skipped_; }

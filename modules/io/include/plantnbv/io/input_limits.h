@@ -23,6 +23,7 @@
 namespace plantnbv {
 namespace io {
 
+/// \brief Caps on what a reader accepts from one file (see above); 0: no cap.
 struct InputLimits {
   std::uint64_t max_file_bytes = std::uint64_t{2} << 30; ///< 2 GiB
   std::uint64_t max_points = 100'000'000;   ///< cloud points or mesh vertices

@@ -41,12 +41,18 @@
 namespace plantnbv {
 namespace io {
 
+/// \brief How loadMesh() reads a file's axes and units into metres, z up.
 struct MeshLoadOptions {
-  enum class UpAxis { from_file, y, z };
-  /// Which file axis points up; from_file = Collada's <up_axis>, Y for VRML, Z for the
+  /// \brief The file axis that points up (it becomes our z).
+  enum class UpAxis {
+    from_file, ///< as the file says (see up_axis)
+    y,         ///< the file's y axis
+    z,         ///< the file's z axis
+  };
+  /// Which file axis points up; from_file = Collada's `<up_axis>`, Y for VRML, Z for the
   /// other formats.
   UpAxis up_axis = UpAxis::from_file;
-  /// Metres per file unit; 0 = from the file (Collada <unit>, 1 for the other formats).
+  /// Metres per file unit; 0 = from the file (Collada `<unit>`, 1 for the other formats).
   /// A non-zero value replaces the file's unit (it does not multiply it).
   double scale = 0.0;
   /// Caps on the file size, vertices and triangles (input_limits.h); by default the

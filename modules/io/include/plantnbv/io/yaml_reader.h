@@ -38,7 +38,10 @@ public:
   /// A key's handler: its value and its key path.
   using Handler = std::function<void(const YAML::Node& value, const std::string& path)>;
 
+  /// \param[in] file the name messages give the document (its path, as the user wrote
+  /// it).
   explicit YamlReader(std::string file) : file_(std::move(file)) {}
+  /// \brief The name messages give the document.
   const std::string& file() const { return file_; }
 
   /// \brief Parses a document and checks its shape before any reader walks it.

@@ -86,11 +86,11 @@ class MortonKdTree : public pcl::search::Search<PointT> {
   using Base = pcl::search::Search<PointT>;
 
 public:
-  using Ptr = std::shared_ptr<MortonKdTree<PointT>>;
-  using ConstPtr = std::shared_ptr<const MortonKdTree<PointT>>;
-  using PointCloud = typename Base::PointCloud;
-  using PointCloudConstPtr = typename Base::PointCloudConstPtr;
-  using IndicesConstPtr = typename Base::IndicesConstPtr;
+  using Ptr = std::shared_ptr<MortonKdTree<PointT>>;            ///< shared search
+  using ConstPtr = std::shared_ptr<const MortonKdTree<PointT>>; ///< shared, read-only
+  using PointCloud = typename Base::PointCloud;                 ///< the searched cloud
+  using PointCloudConstPtr = typename Base::PointCloudConstPtr; ///< shared, read-only
+  using IndicesConstPtr = typename Base::IndicesConstPtr; ///< indices into the cloud
   // The base class's index and batch overloads (they call the point queries below).
   using Base::nearestKSearch;
   using Base::radiusSearch;
@@ -133,6 +133,7 @@ public:
   /// more; set it before setInputCloud); 0 (default) = OpenMP's default. The tree and
   /// the results do not depend on it. \throws InvalidArgumentError if negative.
   void setNumberOfThreads(int threads);
+  /// \brief The OpenMP threads for building the tree; 0 = OpenMP's default.
   int getNumberOfThreads() const { return threads_; }
 
 private:

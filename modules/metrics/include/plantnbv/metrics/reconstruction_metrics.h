@@ -64,7 +64,9 @@ class ReconstructionMetrics {
 public:
   ReconstructionMetrics();
   ~ReconstructionMetrics();
+  /// \brief Moves the clouds' trees and the settings (not copyable: the trees are owned).
   ReconstructionMetrics(ReconstructionMetrics&&) noexcept;
+  /// \brief Moves the clouds' trees and the settings.
   ReconstructionMetrics& operator=(ReconstructionMetrics&&) noexcept;
 
   /// \brief The reference T (ground truth). Its finite points are copied into T's tree
@@ -79,6 +81,7 @@ public:
   /// \param[in] rho precision/recall threshold in metres (default 0.003, the paper's map
   /// resolution); \throws InvalidArgumentError unless finite and > 0.
   void setThreshold(double rho);
+  /// \brief The precision/recall threshold rho in metres.
   double getThreshold() const { return rho_; }
 
   /// \param[in] threads OpenMP threads for building the trees (clouds of 32k points and
@@ -86,6 +89,7 @@ public:
   /// (default) = OpenMP's default. The results do not depend on it.
   /// \throws InvalidArgumentError if negative.
   void setNumberOfThreads(int threads);
+  /// \brief The OpenMP threads; 0 = OpenMP's default.
   int getNumberOfThreads() const { return threads_; }
 
   /// \brief Computes all metrics. \throws InvalidArgumentError if a cloud was not set.

@@ -58,8 +58,8 @@ enum class VoxelState : std::uint8_t {
 /// `insert` throws std::bad_alloc the map stays valid but may hold part of the frame.
 class OccupancyMap {
 public:
-  using Ptr = std::shared_ptr<OccupancyMap>;
-  using ConstPtr = std::shared_ptr<const OccupancyMap>;
+  using Ptr = std::shared_ptr<OccupancyMap>;            ///< shared map
+  using ConstPtr = std::shared_ptr<const OccupancyMap>; ///< shared, read-only map
 
   /// \brief The map's parameters; defaults are the paper's (Table 1, data/paper.yaml).
   struct Config {
@@ -90,8 +90,9 @@ public:
 
   /// \brief Voxel counts at the finest resolution (a pruned node counts all its voxels).
   struct VoxelCounts {
-    std::size_t occupied = 0;
-    std::size_t free = 0;
+    std::size_t occupied = 0; ///< voxels whose probability is above the threshold
+    std::size_t free = 0;     ///< known voxels at or below the threshold
+    /// \brief Voxels observed at least once: occupied + free.
     std::size_t known() const { return occupied + free; }
   };
 
@@ -109,7 +110,7 @@ public:
     double rays_ms = 0.0;     ///< ray ends, keys and bounds (parallel)
     double traverse_ms = 0.0; ///< ray traversal into the bitset (parallel)
     double update_ms = 0.0;   ///< tree update, inner nodes and pruning (sequential)
-    double total_ms = 0.0;
+    double total_ms = 0.0;    ///< the whole insert
   };
 
   /// \brief An empty map with the paper's parameters.
@@ -128,6 +129,7 @@ public:
   /// fewer than 4096 points per thread use fewer threads. The map does not depend on it.
   /// \throws InvalidArgumentError if `threads` < 0.
   void setNumberOfThreads(int threads);
+  /// \brief The threads of insert's ray traversal; 0 = OpenMP's default.
   int getNumberOfThreads() const { return threads_; }
 
   /// \brief Integrates one frame. Each finite point within max_range_m of the sensor is

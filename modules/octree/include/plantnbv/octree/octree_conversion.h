@@ -19,6 +19,7 @@ namespace plantnbv {
 /// +-3.3 m around the origin) to 10 m. OccupancyMap::Config and the .bt / .ot reader
 /// refuse anything else (0, negative, NaN, 1e-300, 1e300).
 constexpr double kMinMapResolutionM = 1e-4;
+/// \brief The largest voxel size a map may have: 10 m (see kMinMapResolutionM).
 constexpr double kMaxMapResolutionM = 10.0;
 
 /// \brief Options for `occupiedVoxelCentres`.

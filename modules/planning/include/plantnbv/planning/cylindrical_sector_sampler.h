@@ -56,8 +56,8 @@ struct CylindricalSector {
 /// with anything else.
 class CylindricalSectorSampler : public ViewpointSampler {
 public:
-  using Ptr = std::shared_ptr<CylindricalSectorSampler>;
-  using ConstPtr = std::shared_ptr<const CylindricalSectorSampler>;
+  using Ptr = std::shared_ptr<CylindricalSectorSampler>;            ///< shared sampler
+  using ConstPtr = std::shared_ptr<const CylindricalSectorSampler>; ///< shared, read-only
 
   /// \brief The paper's sector, 3 x 3 grid, 3 samples per cell (27 candidates).
   CylindricalSectorSampler();
@@ -67,18 +67,23 @@ public:
 
   /// \throws InvalidArgumentError as CylindricalSector::validate().
   void setSector(const CylindricalSector& sector);
+  /// \brief The sector the candidates are drawn on.
   const CylindricalSector& getSector() const { return sector_; }
 
   /// \brief The grid: `rows` along z, `cols` along the arc; both >= 1 (default 3 x 3).
   /// \throws InvalidArgumentError naming the bad value.
   void setGrid(int rows, int cols);
+  /// \brief Grid rows (along z).
   int getRows() const { return rows_; }
+  /// \brief Grid columns (along the arc).
   int getCols() const { return cols_; }
+  /// \brief rows x cols.
   int getCellCount() const { return rows_ * cols_; }
 
   /// \brief Samples per cell, >= 1 (default 3); 1, 3, 5 give 9, 27, 45 on a 3 x 3 grid.
   /// \throws InvalidArgumentError naming the bad value.
   void setSamplesPerCell(int k);
+  /// \brief Viewpoints drawn per cell.
   int getSamplesPerCell() const { return samples_per_cell_; }
 
   /// \brief Uniform on the sector's surface within each cell (uniform in arc angle and

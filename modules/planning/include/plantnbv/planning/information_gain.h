@@ -32,6 +32,7 @@ struct GainConfig {
   /// (70 deg horizontally; 2 atan(0.75 tan(35 deg)) = 55.4 deg vertically, square
   /// pixels at 4:3).
   double horizontal_fov_rad = 70.0 * M_PI / 180.0;
+  /// Vertical field of view (rad); see horizontal_fov_rad.
   double vertical_fov_rad = 2.0 * std::atan(0.75 * std::tan(35.0 * M_PI / 180.0));
   /// Length of every ray from the camera (metres, finite, > 0). Default 0.75, Table 1.
   double raycast_range_m = 0.75;
@@ -91,7 +92,7 @@ struct ViewGain {
 /// thread in a fixed order, so results never depend on the number of threads.
 class InformationGain {
 public:
-  using Ptr = std::shared_ptr<InformationGain>;
+  using Ptr = std::shared_ptr<InformationGain>; ///< shared gain computer
 
   /// \brief Timings and sizes of the last update() and compute().
   struct Stats {
@@ -113,21 +114,25 @@ public:
 
   /// \throws InvalidArgumentError as GainConfig::validate().
   void setConfig(const GainConfig& config);
+  /// \brief How candidates are ray-traced.
   const GainConfig& getConfig() const { return config_; }
 
   /// \brief The map to read (shared, not copied). \throws InvalidArgumentError if null.
   void setInputMap(std::shared_ptr<const OccupancyMap> map);
+  /// \brief The map read, or null before setInputMap().
   const std::shared_ptr<const OccupancyMap>& getInputMap() const { return map_; }
 
   /// \brief Empty ROI = everything counts (the paper's plain NBV).
   /// \throws InvalidArgumentError for a box whose centre or size is not finite or whose
   /// size is negative.
   void setRoi(const Roi& roi);
+  /// \brief The attention ROI (empty: everything counts).
   const Roi& getRoi() const { return roi_; }
 
   /// \brief OpenMP threads of compute() (update() runs on one); 0 (default) = OpenMP's
   /// default. Results never depend on it. \throws InvalidArgumentError if `threads` < 0.
   void setNumberOfThreads(int threads);
+  /// \brief The OpenMP threads of compute(); 0 = OpenMP's default.
   int getNumberOfThreads() const { return threads_; }
 
   /// \brief Rebuilds the snapshot of the map now. Called by compute() when the map's
@@ -145,6 +150,7 @@ public:
   /// \brief The gain of one candidate. \throws InvalidArgumentError if no map is set.
   ViewGain compute(const Viewpoint& candidate);
 
+  /// \brief Timings and sizes of the last update() and compute().
   const Stats& getLastStats() const { return stats_; }
 
   /// Internal state (the snapshot, per-thread buffers); defined in the sources.

@@ -24,14 +24,14 @@ class OccupancyMap;
 
 /// \brief A candidate and what it would see.
 struct CandidateView {
-  Viewpoint view;
+  Viewpoint view; ///< the candidate's camera body pose in the world
   /// Its gain; baselines compute only the chosen one's, the others have gain NaN.
   ViewGain gain;
 };
 
 /// \brief The result of one planning step.
 struct NextViewResult {
-  Viewpoint view;        ///< the chosen next view
+  Viewpoint view;         ///< the chosen next view
   std::size_t chosen = 0; ///< its index in `candidates`
   /// Its gain (bits; the planner's GainConfig and ROI).
   double gain = std::numeric_limits<double>::quiet_NaN();
@@ -40,11 +40,11 @@ struct NextViewResult {
   double utility = std::numeric_limits<double>::quiet_NaN();
   /// Every candidate considered (baselines: the ones drawn / the grid).
   std::vector<CandidateView> candidates;
-  bool stop = false; ///< best gain < the stop threshold (NBV only)
-  double sample_ms = 0;  ///< drawing the candidates
-  double gain_ms = 0;    ///< gains, including update_ms
-  double update_ms = 0;  ///< rebuilding the map snapshot (InformationGain::update)
-  double total_ms = 0;   ///< the whole compute()
+  bool stop = false;    ///< best gain < the stop threshold (NBV only)
+  double sample_ms = 0; ///< drawing the candidates
+  double gain_ms = 0;   ///< gains, including update_ms
+  double update_ms = 0; ///< rebuilding the map snapshot (InformationGain::update)
+  double total_ms = 0;  ///< the whole compute()
 };
 
 /// \brief A view planner: the planner is to maps what a filter is to clouds
@@ -59,7 +59,7 @@ struct NextViewResult {
 /// planners may share a map (read-only while they compute) and a sampler.
 class ViewPlanner {
 public:
-  using Ptr = std::shared_ptr<ViewPlanner>;
+  using Ptr = std::shared_ptr<ViewPlanner>; ///< shared planner
 
   virtual ~ViewPlanner() = default;
 
@@ -82,11 +82,17 @@ public:
   /// depend on it. \throws InvalidArgumentError if < 0.
   void setNumberOfThreads(int threads);
 
+  /// \brief The map, or null before setInputMap().
   const std::shared_ptr<const OccupancyMap>& getInputMap() const { return map_; }
+  /// \brief The candidate sampler, or null before setCandidateSampler().
   const ViewpointSampler::ConstPtr& getCandidateSampler() const { return sampler_; }
+  /// \brief The camera's current view, if set.
   const std::optional<Viewpoint>& getCurrentView() const { return current_view_; }
+  /// \brief The attention ROI (empty: everything counts).
   const Roi& getRoi() const { return gain_.getRoi(); }
+  /// \brief How candidates are ray-traced.
   const GainConfig& getGainConfig() const { return gain_.getConfig(); }
+  /// \brief The seed last given to setSeed() (default 0).
   std::uint64_t getSeed() const { return seed_; }
   /// \brief The planner's gain calculator (its statistics: getLastStats()).
   const InformationGain& getInformationGain() const { return gain_; }
@@ -101,12 +107,12 @@ protected:
   /// Throws unless the map and the sampler are set.
   void requireInputs(const char* who) const;
 
-  std::shared_ptr<const OccupancyMap> map_;
-  ViewpointSampler::ConstPtr sampler_;
-  std::optional<Viewpoint> current_view_;
-  InformationGain gain_;
-  std::uint64_t seed_ = 0;
-  Rng rng_{0};
+  std::shared_ptr<const OccupancyMap> map_; ///< the map (setInputMap)
+  ViewpointSampler::ConstPtr sampler_;      ///< the candidates' source
+  std::optional<Viewpoint> current_view_;   ///< the camera's view, if set
+  InformationGain gain_;   ///< the gain calculator (config, ROI, threads)
+  std::uint64_t seed_ = 0; ///< the seed of rng_
+  Rng rng_{0};             ///< draws candidates; reseeded by setSeed()
 };
 
 /// \brief The attention-driven NBV planner (paper Algorithm 1): draws candidates from
@@ -121,10 +127,12 @@ public:
   /// \brief `stop` is set when the best gain is below `bits` (default 0: never).
   /// \throws InvalidArgumentError for NaN.
   void setStopGain(double bits);
+  /// \brief The stop threshold in bits (0: never stop).
   double getStopGain() const { return stop_gain_; }
   /// \brief Travel-cost weight lambda (bits per metre, >= 0; default 0: the paper's
   /// arg max of the gain). \throws InvalidArgumentError if negative or not finite.
   void setTravelCostWeight(double lambda);
+  /// \brief The travel-cost weight lambda, bits per metre (0: none).
   double getTravelCostWeight() const { return travel_cost_weight_; }
 
   /// \throws InvalidArgumentError without map or sampler, or with a travel cost and no
@@ -152,6 +160,7 @@ public:
   /// the bottom-left cell (each from its bottom end). \throws InvalidArgumentError
   /// outside 1..4.
   void setPattern(int pattern);
+  /// \brief The visiting order, 1..4.
   int getPattern() const { return pattern_; }
   /// \brief Starts the order again at its first cell.
   void reset() { step_ = 0; }

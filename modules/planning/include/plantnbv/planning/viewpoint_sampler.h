@@ -18,8 +18,8 @@ namespace plantnbv {
 /// reproducible from its seed. `sample` is const: a sampler may be shared.
 class ViewpointSampler {
 public:
-  using Ptr = std::shared_ptr<ViewpointSampler>;
-  using ConstPtr = std::shared_ptr<const ViewpointSampler>;
+  using Ptr = std::shared_ptr<ViewpointSampler>;            ///< shared sampler
+  using ConstPtr = std::shared_ptr<const ViewpointSampler>; ///< shared, read-only
 
   virtual ~ViewpointSampler() = default;
 
@@ -37,10 +37,13 @@ namespace plantnbv {
 /// from another planner, ranked by the gain (the Rng is not used).
 class ViewpointListSampler : public ViewpointSampler {
 public:
+  /// \param[in] viewpoints the candidates every sample() gives, in this order (camera
+  /// body poses in the world).
   explicit ViewpointListSampler(std::vector<Viewpoint> viewpoints)
       : viewpoints_(std::move(viewpoints))
   {
   }
+  /// \brief The viewpoints given.
   const std::vector<Viewpoint>& getViewpoints() const { return viewpoints_; }
   void sample(Rng&, std::vector<Viewpoint>& out) const override { out = viewpoints_; }
 

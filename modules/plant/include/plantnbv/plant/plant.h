@@ -40,7 +40,7 @@ struct Leaflet {
 /// \brief A compound leaf: petiole and rachis along `axis`, leaflets in pairs plus one
 /// terminal leaflet.
 struct Leaf {
-  LeafNode node;
+  LeafNode node; ///< where the leaf joins the main stem
   /// Centre line of petiole + rachis, from inside the stem to the rachis tip (metres).
   std::vector<Eigen::Vector3d> axis;
   double length_m = 0.0; ///< arc length of petiole + rachis, from the stem surface
@@ -52,8 +52,8 @@ struct Leaf {
 /// \brief A tomato fruit: an oblate spheroid whose equatorial radius is `radius_m`; the
 /// sphere of that radius around `center` holds it.
 struct Fruit {
-  Eigen::Vector3d center{Eigen::Vector3d::Zero()};
-  double radius_m = 0.0;
+  Eigen::Vector3d center{Eigen::Vector3d::Zero()}; ///< centre (metres)
+  double radius_m = 0.0;                           ///< equatorial radius (metres)
 };
 
 /// \brief A truss (inflorescence): a peduncle from the stem, between two leaves, and
@@ -64,7 +64,7 @@ struct Truss {
   Eigen::Vector3d attachment{Eigen::Vector3d::Zero()};
   /// Centre line of the peduncle and the truss rachis (metres).
   std::vector<Eigen::Vector3d> peduncle;
-  std::vector<Fruit> fruits;
+  std::vector<Fruit> fruits; ///< the truss's fruits
 };
 
 /// \brief Where the parts of a plant are: ground truth a mesh file alone does not give.
@@ -86,7 +86,9 @@ struct Plant {
   /// A plant given as a point cloud (a scan, e.g. Pheno4D or TomatoWUR): its points and
   /// their labels (one each, or none). Empty for mesh plants; a scan plant has no mesh.
   std::vector<Eigen::Vector3f> scan_points;
-  std::vector<PartLabel> scan_labels;
+  std::vector<PartLabel> scan_labels; ///< one per scan point, or empty (unlabelled)
+  /// Where the parts are, in the current frame; a loaded model or scan has only the
+  /// stem axis (plant_model.h).
   PlantAnatomy anatomy;
   /// Position of the stem base in the current frame (origin until posed).
   Eigen::Vector3d base_position{Eigen::Vector3d::Zero()};

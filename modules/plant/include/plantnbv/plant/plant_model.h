@@ -13,8 +13,8 @@ namespace plantnbv {
 /// \brief Triangles whose node name fully matches `pattern` (ECMAScript regular
 /// expression) get `label`.
 struct PartLabelRule {
-  PartLabel label = PartLabel::unknown;
-  std::string pattern;
+  PartLabel label = PartLabel::unknown; ///< the label the matching triangles get
+  std::string pattern;                  ///< ECMAScript regex matched against node names
 };
 
 /// \brief Parses "stem=Branch.*,leaflet=Leaf.*,fruit=Fruit.*": comma-separated

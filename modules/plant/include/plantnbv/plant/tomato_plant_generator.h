@@ -14,16 +14,16 @@ namespace plantnbv {
 
 /// \brief Generates a tomato plant from a growth stage and a seed.
 ///
-/// One main stem (radius 2.5-4.5 mm, height 0.45-0.70 m to the apex, slightly curved, base at
-/// the origin, z up); compound leaves in a spiral phyllotaxis (divergence near 137.5 deg)
-/// at internodes that lengthen with the growth stage and shorten towards the apex; each
-/// leaf a petiole and rachis of 0.15-0.40 m drooping along its length, with 2-4 pairs of
-/// leaflets and a terminal one (leaflets 3-9 cm long, 2-4 cm wide, curved and serrate);
-/// trusses on the internode above every third leaf from the 4th-7th leaf on, each with
-/// 2-6 fruits of radius 1.2-3 cm. `growth_stage` moves all of these together; the seed
-/// adds per-plant variation within the ranges, which are hard limits. Nothing reaches
-/// below the base; the highest leaf tip stays under 0.70 m (at most 0.686 m over 1500
-/// seeds tried), so the paper's 0.7 m tall ROIs hold the plant's height.
+/// One main stem (radius 2.5-4.5 mm, height 0.45-0.70 m to the apex, slightly curved,
+/// base at the origin, z up); compound leaves in a spiral phyllotaxis (divergence near
+/// 137.5 deg) at internodes that lengthen with the growth stage and shorten towards the
+/// apex; each leaf a petiole and rachis of 0.15-0.40 m drooping along its length, with
+/// 2-4 pairs of leaflets and a terminal one (leaflets 3-9 cm long, 2-4 cm wide, curved
+/// and serrate); trusses on the internode above every third leaf from the 4th-7th leaf
+/// on, each with 2-6 fruits of radius 1.2-3 cm. `growth_stage` moves all of these
+/// together; the seed adds per-plant variation within the ranges, which are hard limits.
+/// Nothing reaches below the base; the highest leaf tip stays under 0.70 m (at most 0.686
+/// m over 1500 seeds tried), so the paper's 0.7 m tall ROIs hold the plant's height.
 ///
 /// Determinism: the mesh depends only on the Config. Draws come from `Rng` (one stream
 /// per plant, leaf and truss, so removing leaflets or trusses shifts no other draw) and
@@ -79,8 +79,10 @@ public:
   /// \brief Replaces the whole configuration. \throws InvalidArgumentError naming the
   /// first field out of range.
   void setConfig(const Config& config);
+  /// \brief The configuration the next generate() uses.
   const Config& getConfig() const { return config_; }
 
+  /// \brief Config::seed: the per-plant variation.
   void setSeed(std::uint64_t seed) { config_.seed = seed; }
   /// \param[in] stage in [0, 1]; \throws InvalidArgumentError otherwise.
   void setGrowthStage(double stage);
@@ -88,6 +90,7 @@ public:
   void setVariation(double variation);
   /// \param[in] angle_rad in (0, pi]; \throws InvalidArgumentError otherwise.
   void setDivergenceAngle(double angle_rad);
+  /// \brief Config::simplified: half of the leaflets removed.
   void setSimplified(bool simplified) { config_.simplified = simplified; }
   /// \param[in] detail in [0.25, 4]; \throws InvalidArgumentError otherwise.
   void setMeshDetail(double detail);

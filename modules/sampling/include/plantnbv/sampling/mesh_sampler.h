@@ -25,19 +25,22 @@ namespace plantnbv {
 /// Not thread-safe; one sampler per thread.
 class MeshSampler {
 public:
-  using MeshConstPtr = std::shared_ptr<const TriangleMesh>;
+  using MeshConstPtr = std::shared_ptr<const TriangleMesh>; ///< shared, read-only mesh
 
   /// \brief The mesh to sample; its area table is built here, once.
   /// \throws InvalidArgumentError if the mesh is null or has zero total area.
   void setInputMesh(const MeshConstPtr& mesh);
+  /// \brief The mesh sampled, or null before setInputMesh().
   const MeshConstPtr& getInputMesh() const { return mesh_; }
 
   /// \param[in] n number of points to draw (default 100000); \throws if n == 0.
   void setNumberOfPoints(std::size_t n);
+  /// \brief The number of points each sample() draws.
   std::size_t getNumberOfPoints() const { return n_points_; }
 
   /// \param[in] seed the random seed (default 0).
   void setSeed(std::uint64_t seed) { seed_ = seed; }
+  /// \brief The random seed: the same seed, mesh and count give the same points.
   std::uint64_t getSeed() const { return seed_; }
 
   /// \brief Total surface area in square metres (after setInputMesh).

@@ -16,11 +16,11 @@ namespace scenario {
 /// \brief A campaign file: the definition, the trial config its trials share and the
 /// directory its relative paths (models, ROI files) are relative to.
 struct CampaignFile {
-  std::string path;
-  std::string text; ///< as read (the result store keeps it)
-  CampaignDefinition definition;
-  TrialConfig base; ///< the `trial:` section over the built-in defaults
-  std::filesystem::path base_dir;
+  std::string path;               ///< the file, as given
+  std::string text;               ///< as read (the result store keeps it)
+  CampaignDefinition definition;  ///< plants, yaws, studies, planners
+  TrialConfig base;               ///< the `trial:` section over the built-in defaults
+  std::filesystem::path base_dir; ///< relative paths in the file are relative to this
 };
 
 /// \brief Reads and checks a campaign file (keys in data/campaigns/paper.yaml and

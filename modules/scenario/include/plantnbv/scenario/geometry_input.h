@@ -9,6 +9,7 @@
 namespace plantnbv {
 namespace scenario {
 
+/// \brief How loadGeometryAsCloud turns a mesh into points.
 struct GeometryInputOptions {
   double resolution = 0.003;   ///< voxel size for meshes, metres
   std::size_t mesh_points = 0; ///< surface samples for meshes; 0 = automatic (see below)

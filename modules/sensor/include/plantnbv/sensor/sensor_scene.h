@@ -56,12 +56,14 @@ std::vector<float> surfelRadii(const std::vector<Eigen::Vector3f>& points,
 /// any number of sensors capturing in parallel.
 class SensorScene {
 public:
-  using Ptr = std::shared_ptr<SensorScene>;
-  using ConstPtr = std::shared_ptr<const SensorScene>;
+  using Ptr = std::shared_ptr<SensorScene>;            ///< shared scene
+  using ConstPtr = std::shared_ptr<const SensorScene>; ///< shared, read-only scene
 
   SensorScene();
   ~SensorScene();
+  /// \brief Moves the geometry and the Embree scene (not copyable).
   SensorScene(SensorScene&&) noexcept;
+  /// \brief Moves the geometry and the Embree scene.
   SensorScene& operator=(SensorScene&&) noexcept;
   SensorScene(const SensorScene&) = delete;
   SensorScene& operator=(const SensorScene&) = delete;
@@ -111,10 +113,14 @@ public:
   /// \brief Threads for commit() (Embree builds with TBB; 0, the default, uses all
   /// cores). Does not change results.
   void setNumberOfThreads(unsigned int threads) { threads_ = threads; }
+  /// \brief Threads for commit(); 0 = all cores.
   unsigned int getNumberOfThreads() const { return threads_; }
 
+  /// \brief Geometries added (meshes, surfel sets, floors, supports).
   std::size_t geometryCount() const;
+  /// \brief Triangles over all meshes added.
   std::size_t triangleCount() const;
+  /// \brief Surfels (discs) over all surfel sets added.
   std::size_t surfelCount() const;
   /// \brief Bounds of all geometry (metres, world frame; surfels with their radius).
   /// \throws InvalidArgumentError when the scene is empty.

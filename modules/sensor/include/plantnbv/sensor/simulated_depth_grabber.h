@@ -35,7 +35,11 @@ namespace plantnbv {
 /// time.
 class SimulatedDepthGrabber : public pcl::Grabber {
 public:
+  /// \brief The signature of a callback that receives each frame's labelled cloud
+  /// (organized, world frame).
   using CloudCallback = void(const pcl::PointCloud<pcl::PointXYZL>::ConstPtr&);
+  /// \brief The signature of a callback that receives each frame's cloud and its depth
+  /// image.
   using CloudDepthCallback = void(const pcl::PointCloud<pcl::PointXYZL>::ConstPtr&,
                                   const std::shared_ptr<const DepthImage>&);
 
@@ -44,7 +48,9 @@ public:
 
   /// \brief The camera body pose T_W_C of the next frames (identity until set).
   void setPose(const Pose& T_W_C) { pose_ = T_W_C; }
+  /// \brief The camera body pose T_W_C of the next frames.
   const Pose& getPose() const { return pose_; }
+  /// \brief The sensor that captures the frames.
   const SimulatedDepthSensor::Ptr& getSensor() const { return sensor_; }
 
   /// \brief Captures one frame and emits it. \return false (and captures nothing) when
@@ -53,9 +59,13 @@ public:
 
   /// \brief Triggers one frame (PCL's convention for triggered grabbers).
   void start() override { trigger(); }
+  /// \brief Does nothing (a triggered grabber has no stream to stop).
   void stop() override {}
+  /// \brief Always false: frames come only from start() or trigger().
   bool isRunning() const override { return false; }
+  /// \brief "SimulatedDepthGrabber".
   std::string getName() const override { return "SimulatedDepthGrabber"; }
+  /// \brief Always 0 (triggered, no frame rate).
   float getFramesPerSecond() const override { return 0.0f; }
 
 private:

@@ -57,37 +57,44 @@ namespace plantnbv {
 /// capture concurrently.
 class SimulatedDepthSensor {
 public:
-  using Ptr = std::shared_ptr<SimulatedDepthSensor>;
+  using Ptr = std::shared_ptr<SimulatedDepthSensor>; ///< shared sensor
 
   /// \brief A sensor with the L515 at 1024 x 768, no scene yet.
   SimulatedDepthSensor();
   /// \throws InvalidArgumentError as CameraIntrinsics::validate().
   explicit SimulatedDepthSensor(const CameraIntrinsics& intrinsics);
   ~SimulatedDepthSensor();
+  /// \brief Moves the settings, the scene pointer and the capture buffers.
   SimulatedDepthSensor(SimulatedDepthSensor&&) noexcept;
+  /// \brief Moves the settings, the scene pointer and the capture buffers.
   SimulatedDepthSensor& operator=(SimulatedDepthSensor&&) noexcept;
 
   /// \brief The scene to render. \throws InvalidArgumentError if it is null or not
   /// committed (SensorScene::commit()).
   void setScene(SensorScene::ConstPtr scene);
+  /// \brief The scene rendered, or null before setScene().
   const SensorScene::ConstPtr& getScene() const { return scene_; }
 
   /// \throws InvalidArgumentError as CameraIntrinsics::validate().
   void setIntrinsics(const CameraIntrinsics& intrinsics);
+  /// \brief The camera's pinhole model and range limits.
   const CameraIntrinsics& getIntrinsics() const { return intrinsics_; }
 
   /// \brief Sets the noise model and restarts its frame count at 0.
   /// \throws InvalidArgumentError as NoiseConfig::validate().
   void setNoise(const NoiseConfig& noise);
+  /// \brief The noise model (off by default).
   const NoiseConfig& getNoise() const { return noise_; }
   /// \brief The index of the next frame's noise stream (frames since setNoise(), or as
   /// set here); the n-th capture draws from deriveSeed(noise.seed, n).
   void setFrameIndex(std::uint64_t index) { frame_index_ = index; }
+  /// \brief The index of the next frame's noise stream.
   std::uint64_t getFrameIndex() const { return frame_index_; }
 
   /// \brief OpenMP threads for capture(); 0 (default) uses omp_get_max_threads().
   /// Results do not depend on it.
   void setNumberOfThreads(unsigned int threads) { threads_ = threads; }
+  /// \brief OpenMP threads for capture(); 0 = omp_get_max_threads().
   unsigned int getNumberOfThreads() const { return threads_; }
 
   /// \brief Renders the scene from the camera body pose T_W_C (x forward, y left, z up).

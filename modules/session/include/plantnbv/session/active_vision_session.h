@@ -61,11 +61,11 @@ public:
   /// \brief The map, the candidates and the planner's parameters. Defaults: the paper's
   /// (Table 1, data/paper.yaml).
   struct Config {
-    OccupancyMap::Config map;
+    OccupancyMap::Config map; ///< resolution, sensor model, max range
     /// Where candidates lie (the plant's stem axis at axis_base).
     CylindricalSector sector;
-    int grid_rows = 3;
-    int grid_cols = 3;
+    int grid_rows = 3;        ///< sector grid rows (along z), >= 1
+    int grid_cols = 3;        ///< sector grid columns (along the arc), >= 1
     int samples_per_cell = 3; ///< 27 candidates on the 3 x 3 grid
     /// Rays and range of the gain; the fields of view are replaced by the camera's.
     GainConfig gain;
@@ -83,23 +83,28 @@ public:
   explicit ActiveVisionSession(const Config& config);
   ~ActiveVisionSession();
 
+  /// \brief The configuration the session was made with.
   const Config& getConfig() const { return config_; }
 
   /// \brief The camera whose frusta the candidates have (only its fields of view count).
   /// \throws InvalidArgumentError as CameraIntrinsics::validate().
   void setCamera(const CameraIntrinsics& intrinsics);
+  /// \brief The camera whose fields of view the candidates have.
   const CameraIntrinsics& getCamera() const { return camera_; }
   /// \brief The planner (AttentionNbvPlanner by default); the session gives it its map,
   /// sampler, ROI, gain, seed and threads. \throws InvalidArgumentError if null.
   void setPlanner(ViewPlanner::Ptr planner);
+  /// \brief The planner (to set its own options, e.g. a stop gain).
   ViewPlanner& getPlanner() { return *planner_; }
   /// \brief Replaces the candidates of the config's sector (e.g. a robot's reachable
   /// poses). \throws InvalidArgumentError if null.
   void setCandidateSampler(ViewpointSampler::ConstPtr sampler);
+  /// \brief Where candidates come from (the config's sector unless replaced).
   const ViewpointSampler::ConstPtr& getCandidateSampler() const { return sampler_; }
   /// \brief What the gain counts; empty: every voxel. May change at any time.
   /// \throws InvalidArgumentError as InformationGain::setRoi.
   void setRoi(const Roi& roi);
+  /// \brief What the gain counts (empty: every voxel).
   const Roi& getRoi() const { return planner_->getRoi(); }
   /// \brief The camera's body pose now (for the planner's travel cost).
   void setCurrentView(const Viewpoint& view);
@@ -113,6 +118,7 @@ public:
                  const Pose& T_W_O);
   /// \brief Integrates a cloud in the world frame seen from `origin_W`.
   void integrate(const CloudXYZ& cloud_W, const Eigen::Vector3d& origin_W);
+  /// \brief As above, for a labelled cloud (the labels are not used).
   void integrate(const CloudXYZL& cloud_W, const Eigen::Vector3d& origin_W);
 
   /// \brief One planning step on the current map. \throws InvalidArgumentError as the
