@@ -4,7 +4,7 @@
 //   campaign run-chunk FILE -o DIR --chunk I --chunks N   one chunk (array jobs)
 //   campaign run-chunk FILE -o DIR --task-file F --task I  one task of `submit`
 //   campaign submit FILE -o DIR [...]   the missing trials as a Slurm job array
-//   campaign status DIR                 count done, failed and missing trials
+//   campaign status DIR [-j N]          count done, failed and missing trials; the ETA
 //   campaign report DIR [-o OUT]        curves.csv, summary.md and PNG figures
 
 #include <algorithm>
@@ -21,6 +21,7 @@
 #include <memory>
 #include <set>
 #include <sstream>
+#include <thread>
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
@@ -196,7 +197,32 @@ void runCampaign(const RunOptions& o)
                 "; run again to retry them)");
 }
 
-void statusCampaign(const std::string& dir)
+/// The ETA of the trials still to run (missing and failed) from the done trials' own
+/// times, by etaText's rule, as if `workers` ran them (0: all cores, as `campaign run`):
+/// ", ETA 4:10 at 2 trials at a time (a trial took 1.4 s on average)"; "" when none is
+/// left.
+std::string statusEtaText(const StoreStatus& s, int workers)
+{
+  const std::size_t left = s.missing + s.failed;
+  if (workers <= 0)
+    workers = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  const std::size_t at_once =
+      std::max<std::size_t>(1, std::min<std::size_t>(workers, left));
+  CampaignProgress p;
+  p.ran = s.timed;
+  p.to_run = s.timed + left;
+  p.elapsed_s = s.timed_s / double(at_once); // the timed trials, run `at_once` at a time
+  const std::string eta = etaText(p);
+  if (eta.empty() || s.timed == 0)
+    return eta;
+  std::ostringstream text;
+  text << eta << " at " << at_once << " trial" << (at_once == 1 ? "" : "s")
+       << " at a time (a trial took " << std::fixed << std::setprecision(1)
+       << s.timed_s / double(s.timed) << " s on average)";
+  return text.str();
+}
+
+void statusCampaign(const std::string& dir, int workers)
 {
   scenario::CampaignFile f;
   const StoreStatus s = scenario::campaignDirectoryStatus(dir, &f);
@@ -204,7 +230,7 @@ void statusCampaign(const std::string& dir)
             << s.done << " done, " << s.failed << " failed, " << s.missing << " missing";
   if (s.foreign)
     std::cout << " (" << s.foreign << " of them files of another campaign, run again)";
-  std::cout << "\n";
+  std::cout << statusEtaText(s, workers) << "\n";
   const std::size_t shown = std::min<std::size_t>(s.failed_ids.size(), 20);
   for (std::size_t i = 0; i < shown; ++i)
     std::cout << "failed: " << s.failed_ids[i] << ": " << s.failed_errors[i] << "\n";
@@ -284,9 +310,14 @@ void addCampaignCommand(CLI::App& app)
   addCampaignSubmitCommand(*cmd);
 
   auto status_dir = std::make_shared<std::string>();
-  CLI::App* s = cmd->add_subcommand("status", "Count done, failed and missing trials");
+  auto status_jobs = std::make_shared<int>(0);
+  CLI::App* s = cmd->add_subcommand(
+      "status", "Count done, failed and missing trials, with the ETA of those left");
   s->add_option("dir", *status_dir, "Campaign directory")->required();
-  s->callback([status_dir]() { statusCampaign(*status_dir); });
+  s->add_option("-j,--jobs", *status_jobs,
+                "Trials at a time the ETA assumes (default: all cores, as `run`)")
+      ->check(workerCount("trials at a time"));
+  s->callback([status_dir, status_jobs]() { statusCampaign(*status_dir, *status_jobs); });
 
   auto report_dir = std::make_shared<std::string>();
   auto report_out = std::make_shared<std::string>();

@@ -121,6 +121,9 @@ TEST_F(CampaignResultsTest, StoreWritesOneFilePerTrialAndCountsThem)
   ASSERT_EQ(s.failed_ids.size(), 1u);
   EXPECT_EQ(s.failed_ids[0], specs[1].id);
   EXPECT_EQ(s.failed_errors[0], "cannot read 'gone.dae'");
+  // The done trial's own time, for `campaign status`'s ETA; the failed one has none.
+  EXPECT_EQ(s.timed, 1u);
+  EXPECT_DOUBLE_EQ(s.timed_s, r.total_ms / 1000.0);
 
   const StoredTrial t = ResultStore::loadFile(store.resultPath(specs[0].id));
   EXPECT_EQ(t.id, specs[0].id);
@@ -450,4 +453,66 @@ TEST_F(CampaignResultsTest, ReportCurvesOfAHandMadeResultsDirectory)
   // is undefined (2 views): shown as "-".
   EXPECT_NE(summary.find("| nbv-a | 3 | - / - (median >2 / >2) |"), std::string::npos)
       << summary;
+}
+
+TEST_F(CampaignResultsTest, ReportListsOnlyThePaperRowsThatRanAndNoEmptySection)
+{
+  // Two of the paper's planners on one level: 3 of its 30 rows ran.
+  const fs::path paper = dir_ / "paper";
+  fs::create_directories(paper / "trials");
+  for (const char* plant : {"p1", "p2"}) {
+    writeTrial(paper, "nbv-whole-plant", 0, plant, {0.5, 0.85, 0.95},
+               {"0.01", "0.01", "0.01"});
+    writeTrial(paper, "random", 0, plant, {0.4, 0.6, 0.85}, {"0.01", "0.01", "0.01"});
+  }
+  writeCampaignReport(ResultStore(paper).load(), paper / "report", "two planners");
+  const std::string summary = slurp(paper / "report" / "summary.md");
+  // Gain at 3 views: (0.95 - 0.85) / 0.85 = +11.8%, 10.0 points.
+  const std::string paper_section =
+      "\n## The paper's numbers beside ours\n\n"
+      "Paper: Burusa et al., section 4 (10 plants x 12 yaws). Ours: study main, mean "
+      "curve. The paper does not say whether its F1 gains are relative or percentage "
+      "points: both of ours are given.\n\n"
+      "27 of the paper's 30 rows have no trial in this campaign (the planner, its "
+      "baseline or the level is not in study main) and are left out.\n\n"
+      "| level | planner | quantity | paper | ours |\n"
+      "|---|---|---|---|---|\n"
+      "| whole_plant | nbv-whole-plant | views to F1 0.8 | 3 | 2 |\n"
+      "| whole_plant | random | views to F1 0.8 | 4 | 3 |\n"
+      "| whole_plant | nbv-whole-plant | F1 gain at 3 views vs random | +5.3% | +11.8% "
+      "(10.0 points) |\n";
+  ASSERT_GE(summary.size(), paper_section.size()) << summary;
+  EXPECT_EQ(summary.substr(summary.size() - paper_section.size()), paper_section)
+      << summary;
+  EXPECT_EQ(summary.find("not run"), std::string::npos) << summary;
+  EXPECT_NE(summary.find("## F1 gain of the NBV planners after 3 views (study main)\n\n"
+                         "Relative gain of the mean F1, (NBV - baseline) / baseline, and "
+                         "in brackets the difference in percentage points.\n\n"
+                         "| planner | baseline | whole_plant |\n|---|---|---|\n"
+                         "| nbv-whole-plant | random | +11.8% (10.0) |\n"),
+            std::string::npos)
+      << summary;
+  // No sensitivity study: no heading for one.
+  EXPECT_EQ(summary.find("## Sensitivity studies"), std::string::npos) << summary;
+
+  // A planner of the user's own only: no gain, no sensitivity study, none of the paper's
+  // rows. Only the section with rows is written.
+  const fs::path mine = dir_ / "mine";
+  fs::create_directories(mine / "trials");
+  for (const char* plant : {"p1", "p2"})
+    writeTrial(mine, "nbv-mine", 0, plant, {0.5, 0.85, 0.95}, {"0.01", "0.01", "0.01"});
+  writeCampaignReport(ResultStore(mine).load(), mine / "report", "mine");
+  EXPECT_EQ(slurp(mine / "report" / "summary.md"),
+            "# mine\n\n"
+            "2 trials done, 0 failed (left out). Samples: one per plant, yaw and "
+            "repetition; the patterns of a pre-defined planner are averaged into one "
+            "sample. Views count v0.\n\n"
+            "## Views to reach F1 0.8 / 0.9\n\n"
+            "From the mean F1 curve, and in brackets the median over samples (`-`: the "
+            "mean curve never reaches it; `>N`: more than half of the samples never do "
+            "within N views).\n\n"
+            "### main\n\n"
+            "| planner | n | whole_plant |\n"
+            "|---|---|---|\n"
+            "| nbv-mine | 2 | 2 / 3 (median 2 / 3) |\n");
 }

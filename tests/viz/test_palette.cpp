@@ -49,3 +49,19 @@ TEST(Palette, PartColoursAreDistinctAndAsDocumented)
         0.0);
   }
 }
+
+TEST(Palette, ChartColoursAreOkabeAndItos)
+{
+  // Okabe & Ito (2008): black, orange, sky blue, bluish green, yellow, blue, vermillion,
+  // reddish purple, as 8-bit sRGB.
+  const int expected[8][3] = {{0, 0, 0},     {230, 159, 0},  {86, 180, 233},
+                              {0, 158, 115}, {240, 228, 66}, {0, 114, 178},
+                              {213, 94, 0},  {204, 121, 167}};
+  for (std::size_t i = 0; i < 8; ++i) {
+    const Rgb c = plantnbv::viz::chartColor(i);
+    EXPECT_EQ(std::lround(c.r * 255), expected[i][0]) << i;
+    EXPECT_EQ(std::lround(c.g * 255), expected[i][1]) << i;
+    EXPECT_EQ(std::lround(c.b * 255), expected[i][2]) << i;
+    EXPECT_EQ(distance(c, plantnbv::viz::chartColor(i + 8)), 0.0) << i; // repeating
+  }
+}

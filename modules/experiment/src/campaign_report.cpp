@@ -281,11 +281,13 @@ void writeSummary(std::ostream& out, const Analysis& a, const std::string& title
       << "plant, yaw and repetition; the patterns of a pre-defined planner are averaged "
          "into one sample. Views count v0.\n\n";
 
+  // Each section only where it has rows: a heading with nothing under it says nothing.
   // Views to reach F1 0.8 / 0.9, study by study.
-  out << "## Views to reach F1 0.8 / 0.9\n\n"
-      << "From the mean F1 curve, and in brackets the median over samples (`-`: the mean "
-         "curve never reaches it; `>N`: more than half of the samples never do within N "
-         "views).\n";
+  if (!a.groups.empty())
+    out << "## Views to reach F1 0.8 / 0.9\n\n"
+        << "From the mean F1 curve, and in brackets the median over samples (`-`: the "
+           "mean curve never reaches it; `>N`: more than half of the samples never do "
+           "within N views).\n";
   std::string current;
   for (const auto& [key, g] : a.groups) {
     const std::string heading =
@@ -312,15 +314,7 @@ void writeSummary(std::ostream& out, const Analysis& a, const std::string& title
     const auto it = a.groups.find({study, variant, planner});
     return it == a.groups.end() ? nullptr : &it->second;
   };
-  out << "\n## F1 gain of the NBV planners after 3 views (study main)\n\n"
-      << "Relative gain of the mean F1, (NBV - baseline) / baseline, and in brackets the "
-         "difference in percentage points.\n\n| planner | baseline |";
-  for (const std::string& l : a.levels)
-    out << " " << l << " |";
-  out << "\n|---|---|";
-  for (std::size_t i = 0; i < a.levels.size(); ++i)
-    out << "---|";
-  out << "\n";
+  std::ostringstream gains;
   for (const auto& [key, g] : a.groups) {
     if (key.study != "main" || !isNbv(key.planner))
       continue;
@@ -328,20 +322,29 @@ void writeSummary(std::ostream& out, const Analysis& a, const std::string& title
       const Group* b = find(key.study, key.variant, base);
       if (!b)
         continue;
-      out << "| " << key.planner << " | " << base << " |";
+      gains << "| " << key.planner << " | " << base << " |";
       for (const std::string& l : a.levels) {
         const auto [rel, points] = gainAt(g, *b, l, 3);
-        out << " " << signedPercent(rel) << " (" << fixed(points, 1) << ") |";
+        gains << " " << signedPercent(rel) << " (" << fixed(points, 1) << ") |";
       }
-      out << "\n";
+      gains << "\n";
     }
+  }
+  if (!gains.str().empty()) {
+    out << "\n## F1 gain of the NBV planners after 3 views (study main)\n\n"
+        << "Relative gain of the mean F1, (NBV - baseline) / baseline, and in brackets "
+           "the difference in percentage points.\n\n| planner | baseline |";
+    for (const std::string& l : a.levels)
+      out << " " << l << " |";
+    out << "\n|---|---|";
+    for (std::size_t i = 0; i < a.levels.size(); ++i)
+      out << "---|";
+    out << "\n" << gains.str();
   }
 
   // Sensitivity studies: each variant beside the main study's same planner.
-  out << "\n## Sensitivity studies\n\nF1 after 3 views and after the last view (mean "
-         "[95% CI]), views to reach F1 0.8 / 0.9 (mean curve; median over samples). "
-         "`main` is the main study's result for the same planner.\n";
   // Rows level by level, so that variants of one planner stand together.
+  std::ostringstream studies;
   std::string done_study;
   for (const auto& entry : a.groups) {
     const GroupKey& key0 = entry.first;
@@ -368,37 +371,60 @@ void writeSummary(std::ostream& out, const Analysis& a, const std::string& title
           if (key.study == key0.study && key.planner == planner && hasLevel(g, l))
             row(g, key.variant.empty() ? "-" : key.variant);
       }
-    out << "\n### " << key0.study
-        << "\n\n| level | planner | variant | n | F1 at "
-           "3 views | F1 at the last view | views to 0.8 / 0.9 |\n"
-           "|---|---|---|---|---|---|---|\n"
-        << rows.str();
+    if (rows.str().empty())
+      continue;
+    studies << "\n### " << key0.study
+            << "\n\n| level | planner | variant | n | F1 at "
+               "3 views | F1 at the last view | views to 0.8 / 0.9 |\n"
+               "|---|---|---|---|---|---|---|\n"
+            << rows.str();
   }
+  if (!studies.str().empty())
+    out << "\n## Sensitivity studies\n\nF1 after 3 views and after the last view (mean "
+           "[95% CI]), views to reach F1 0.8 / 0.9 (mean curve; median over samples). "
+           "`main` is the main study's result for the same planner.\n"
+        << studies.str();
 
-  // The paper beside ours.
+  // The paper beside ours: the rows whose planner (and baseline) ran at the level.
+  std::ostringstream paper;
+  std::size_t paper_rows = 0, not_run = 0;
+  for (const PaperNumber& p : kPaper) {
+    ++paper_rows;
+    const Group* g = find("main", "", p.planner);
+    const Group* b = p.other ? find("main", "", p.other) : nullptr;
+    if (!g || !hasLevel(*g, p.level) || (p.other && (!b || !hasLevel(*b, p.level)))) {
+      ++not_run;
+      continue;
+    }
+    std::string ours;
+    if (b) {
+      const auto [rel, points] = gainAt(*g, *b, p.level, 3);
+      ours = signedPercent(rel) + " (" + fixed(points, 1) + " points)";
+    } else {
+      const int v =
+          viewsToReach(meanCurve(*g, p.level),
+                       std::string(p.quantity) == "views to F1 0.8" ? 0.8 : 0.9);
+      ours = v < 0 ? ">" + std::to_string(g->views) : std::to_string(v);
+    }
+    paper << "| " << p.level << " | " << p.planner << " | " << p.quantity
+          << (p.other ? std::string(" vs ") + p.other : std::string()) << " | " << p.value
+          << " | " << ours << " |\n";
+  }
+  if (paper.str().empty())
+    return;
   out << "\n## The paper's numbers beside ours\n\n"
       << "Paper: Burusa et al., section 4 (10 plants x 12 yaws). Ours: study main, mean "
          "curve. The paper does not say whether its F1 gains are relative or percentage "
-         "points: both of ours are given.\n\n"
-      << "| level | planner | quantity | paper | ours |\n|---|---|---|---|---|\n";
-  for (const PaperNumber& p : kPaper) {
-    const Group* g = find("main", "", p.planner);
-    std::string ours = "not run";
-    if (g && hasLevel(*g, p.level)) {
-      const std::string q = p.quantity;
-      if (q == "views to F1 0.8" || q == "views to F1 0.9") {
-        const int v =
-            viewsToReach(meanCurve(*g, p.level), q == "views to F1 0.8" ? 0.8 : 0.9);
-        ours = v < 0 ? ">" + std::to_string(g->views) : std::to_string(v);
-      } else if (const Group* b = find("main", "", p.other)) {
-        const auto [rel, points] = gainAt(*g, *b, p.level, 3);
-        ours = signedPercent(rel) + " (" + fixed(points, 1) + " points)";
-      }
-    }
-    out << "| " << p.level << " | " << p.planner << " | " << p.quantity
-        << (p.other ? std::string(" vs ") + p.other : std::string()) << " | " << p.value
-        << " | " << ours << " |\n";
-  }
+         "points: both of ours are given.";
+  if (not_run)
+    out << "\n\n"
+        << not_run << " of the paper's " << paper_rows << " rows "
+        << (not_run == 1 ? "has" : "have")
+        << " no trial in this campaign (the planner, its baseline or the level is not in "
+           "study main) and "
+        << (not_run == 1 ? "is" : "are") << " left out.";
+  out << "\n\n| level | planner | quantity | paper | ours |\n|---|---|---|---|---|\n"
+      << paper.str();
 }
 
 } // namespace

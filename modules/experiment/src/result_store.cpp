@@ -241,6 +241,13 @@ void ResultStore::writeFailure(const TrialSpec& spec, const std::string& error) 
 
 TrialState ResultStore::state(const TrialSpec& spec) const
 {
+  return readState(spec, nullptr);
+}
+
+TrialState ResultStore::readState(const TrialSpec& spec, double* total_s) const
+{
+  if (total_s)
+    *total_s = std::numeric_limits<double>::quiet_NaN();
   const std::filesystem::path path = resultPath(spec.id);
   std::error_code ec;
   if (!std::filesystem::exists(path, ec))
@@ -255,6 +262,9 @@ TrialState ResultStore::state(const TrialSpec& spec) const
     if (!isTrialOf(j.value("fingerprint", std::string()), j.contains("fingerprint"),
                    spec))
       return TrialState::foreign;
+    if (total_s && status == "done" && j.contains("total_ms") &&
+        j["total_ms"].is_number() && j["total_ms"].get<double>() >= 0.0)
+      *total_s = j["total_ms"].get<double>() / 1000.0;
     return status == "done"     ? TrialState::done
            : status == "failed" ? TrialState::failed
                                 : TrialState::missing;
@@ -268,9 +278,14 @@ StoreStatus ResultStore::status(const std::vector<TrialSpec>& specs) const
   StoreStatus s;
   s.total = specs.size();
   for (const TrialSpec& spec : specs) {
-    switch (state(spec)) {
+    double total_s = 0.0;
+    switch (readState(spec, &total_s)) {
     case TrialState::done:
       ++s.done;
+      if (std::isfinite(total_s)) {
+        ++s.timed;
+        s.timed_s += total_s;
+      }
       break;
     case TrialState::failed: {
       ++s.failed;

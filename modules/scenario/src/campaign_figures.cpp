@@ -1,6 +1,7 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <iterator>
 #include <map>
 #include <optional>
 
@@ -39,7 +40,6 @@ struct Metric {
   double scale;      ///< to the axis unit
   std::function<const SampleSummary&(const CurveRow&)> of;
   bool unit_range; ///< fixed y range [0, 1]; else [0, 1.5 x the largest mean after v0]
-  viz::ChartPanel::LegendCorner legend;
 };
 
 const Metric kF1{"f1",
@@ -47,24 +47,70 @@ const Metric kF1{"f1",
                  "F1 score (rho = resolution)",
                  1.0,
                  [](const CurveRow& r) -> const SampleSummary& { return r.f1; },
-                 true,
-                 viz::ChartPanel::LegendCorner::bottom_right};
+                 true};
 const Metric kChamfer{"chamfer",
                       "Chamfer distance",
                       "Chamfer distance (mm)",
                       1000.0,
                       [](const CurveRow& r) -> const SampleSummary& { return r.chamfer; },
-                      false,
-                      viz::ChartPanel::LegendCorner::top_right};
+                      false};
 
-/// One curve from the rows that pass `keep`, ordered by view.
+using Line = viz::ChartSeries::Line;
+using Marker = viz::ChartSeries::Marker;
+
+/// Okabe-Ito colours (viz::chartColor) in the order curves without a fixed style take
+/// them: black is kept for the main study's reference curve, yellow (faint on white)
+/// last.
+constexpr std::size_t kColorOrder[] = {5, 6, 3, 1, 2, 7, 4};
+constexpr Marker kMarkerOrder[] = {Marker::circle, Marker::square, Marker::diamond,
+                                   Marker::cross, Marker::plus};
+
+/// The style of each planner the paper names (and NBV on the fruit), whatever else a
+/// figure shows: NBV planners solid lines, the baselines dashed.
+struct PlannerStyle {
+  const char* planner;
+  std::size_t color; ///< viz::chartColor index
+  Line line;
+  Marker marker;
+};
+constexpr PlannerStyle kPlannerStyles[] = {
+    {"nbv-whole-plant", 5, Line::solid, Marker::circle}, // blue
+    {"nbv-main-stem", 6, Line::solid, Marker::square},   // vermillion
+    {"nbv-leaf-nodes", 3, Line::solid, Marker::diamond}, // bluish green
+    {"predefined", 1, Line::dashed, Marker::cross},      // orange
+    {"random", 2, Line::dash_dot, Marker::plus},         // sky blue
+    {"nbv-fruit", 7, Line::solid, Marker::none},         // reddish purple
+};
+
+/// Styles `series` in order: each takes the first colour of kColorOrder and the first
+/// marker of kMarkerOrder that no curve of the figure has yet (`used_*`); once all are
+/// taken, they are taken again from the start.
+void styleInOrder(std::vector<viz::ChartSeries>& series,
+                  std::vector<std::size_t> used_colors, std::vector<Marker> used_markers)
+{
+  auto unused = [](const auto& order, auto& used) {
+    auto it = std::find_if(std::begin(order), std::end(order), [&used](const auto& x) {
+      return std::find(used.begin(), used.end(), x) == used.end();
+    });
+    if (it == std::end(order)) {
+      used.clear();
+      it = std::begin(order);
+    }
+    used.push_back(*it);
+    return *it;
+  };
+  for (viz::ChartSeries& s : series) {
+    s.color = viz::chartColor(unused(kColorOrder, used_colors));
+    s.marker = unused(kMarkerOrder, used_markers);
+  }
+}
+
+/// One curve from the rows that pass `keep`, ordered by view, in the style of `style`.
 viz::ChartSeries curve(const std::vector<CurveRow>& rows, const Metric& m,
                        const std::function<bool(const CurveRow&)>& keep,
-                       const std::string& name, std::size_t color)
+                       const viz::ChartSeries& style)
 {
-  viz::ChartSeries s;
-  s.name = name;
-  s.color = viz::distinctColor(color);
+  viz::ChartSeries s = style;
   for (const CurveRow& r : rows)
     if (keep(r)) {
       const SampleSummary& v = m.of(r);
@@ -80,13 +126,44 @@ viz::ChartPanel panel(const Metric& m, const std::string& title)
 {
   viz::ChartPanel p;
   p.title = title;
-  p.x_label = "views (v0 included)";
+  p.x_label = "views (1 = v0 only)";
   p.y_label = m.axis;
   p.fixed_y = true;
   p.y_min = 0.0;
   p.y_max = 1.0;
-  p.legend = m.legend;
+  p.integer_x = true;
   return p;
+}
+
+/// The series of `planners` (name, colour, line and marker; no points), one each: the
+/// paper's planners in their fixed style, the others in colours and markers left free.
+std::vector<viz::ChartSeries> plannerCurveStyles(const std::vector<std::string>& planners)
+{
+  std::vector<viz::ChartSeries> styles(planners.size());
+  std::vector<viz::ChartSeries> others;
+  std::vector<std::size_t> used_colors{0}; // black: the main study's reference
+  std::vector<Marker> used_markers;
+  for (std::size_t i = 0; i < planners.size(); ++i) {
+    styles[i].name = planners[i];
+    for (const PlannerStyle& p : kPlannerStyles)
+      if (planners[i] == p.planner) {
+        styles[i].color = viz::chartColor(p.color);
+        styles[i].line = p.line;
+        styles[i].marker = p.marker;
+        used_colors.push_back(p.color);
+        used_markers.push_back(p.marker);
+      }
+  }
+  for (const viz::ChartSeries& s : styles)
+    if (std::none_of(std::begin(kPlannerStyles), std::end(kPlannerStyles),
+                     [&s](const PlannerStyle& p) { return s.name == p.planner; }))
+      others.push_back(s);
+  styleInOrder(others, used_colors, used_markers);
+  for (viz::ChartSeries& s : styles)
+    for (const viz::ChartSeries& o : others)
+      if (o.name == s.name)
+        s = o;
+  return styles;
 }
 
 } // namespace
@@ -117,6 +194,7 @@ std::vector<fs::path> writeCampaignFigures(const std::vector<CurveRow>& rows,
                     "' (mean and 95% confidence interval" +
                     (m->unit_range ? ")" : "; the scale fits the views after v0)"));
     figure.setSize(1200, 460);
+    const std::vector<viz::ChartSeries> styles = plannerCurveStyles(planners);
     for (const std::string& level : levels) {
       viz::ChartPanel p = panel(*m, levelTitle(level));
       for (std::size_t i = 0; i < planners.size(); ++i)
@@ -125,7 +203,7 @@ std::vector<fs::path> writeCampaignFigures(const std::vector<CurveRow>& rows,
             [&](const CurveRow& r) {
               return r.study == main && r.planner == planners[i] && r.level == level;
             },
-            planners[i], i));
+            styles[i]));
       if (!m->unit_range) { // v0's distances, many times the others, would flatten them
         double top = 0.0;
         for (const viz::ChartSeries& s : p.series)
@@ -150,6 +228,16 @@ std::vector<fs::path> writeCampaignFigures(const std::vector<CurveRow>& rows,
         addOnce(study_planners, r.planner);
         addOnce(variants, r.variant);
       }
+    // The main study's curve black and dashed, the variants' solid, each its colour and
+    // marker.
+    viz::ChartSeries reference_style;
+    reference_style.name = main;
+    reference_style.color = viz::chartColor(0);
+    reference_style.line = Line::dashed;
+    std::vector<viz::ChartSeries> variant_styles(variants.size());
+    for (std::size_t v = 0; v < variants.size(); ++v)
+      variant_styles[v].name = variants[v];
+    styleInOrder(variant_styles, {0}, {});
     viz::LineChartFigure figure;
     figure.setTitle("F1 score vs views, study '" + study +
                     "' (mean and 95% confidence interval; dashed: study '" + main + "')");
@@ -163,8 +251,7 @@ std::vector<fs::path> writeCampaignFigures(const std::vector<CurveRow>& rows,
             [&](const CurveRow& r) {
               return r.study == main && r.planner == planner && r.level == level;
             },
-            main, 7);
-        reference.dashed = true;
+            reference_style);
         reference.band_low.clear(); // the main study's band is in f1_main.png
         reference.band_high.clear();
         if (!reference.x.empty())
@@ -176,7 +263,7 @@ std::vector<fs::path> writeCampaignFigures(const std::vector<CurveRow>& rows,
                 return r.study == study && r.variant == variants[v] &&
                        r.planner == planner && r.level == level;
               },
-              variants[v], v));
+              variant_styles[v]));
         figure.addPanel(p);
       }
     written.push_back(out_dir / ("f1_" + study + ".png"));

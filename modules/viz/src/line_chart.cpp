@@ -1,5 +1,6 @@
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <string>
 
 #include <vtkAxis.h>
@@ -13,11 +14,14 @@
 #include <vtkPen.h>
 #include <vtkPlot.h>
 #include <vtkPlotArea.h>
+#include <vtkPlotPoints.h>
 #include <vtkRenderWindow.h>
 #include <vtkRenderer.h>
+#include <vtkStringArray.h>
 #include <vtkTable.h>
 #include <vtkTextActor.h>
 #include <vtkTextProperty.h>
+#include <vtkTextRenderer.h>
 #include <vtkVector.h>
 
 #include <plantnbv/common/error.h>
@@ -50,6 +54,57 @@ void checkSeries(const ChartSeries& s)
   if (s.y.size() != n || (band && (s.band_low.size() != n || s.band_high.size() != n)))
     throw InvalidArgumentError("chart series '" + s.name +
                                "': x, y and the band bounds differ in length");
+}
+
+int penType(ChartSeries::Line line)
+{
+  switch (line) {
+  case ChartSeries::Line::dashed:
+    return vtkPen::DASH_LINE;
+  case ChartSeries::Line::dotted:
+    return vtkPen::DOT_LINE;
+  case ChartSeries::Line::dash_dot:
+    return vtkPen::DASH_DOT_LINE;
+  case ChartSeries::Line::dash_dot_dot:
+    return vtkPen::DASH_DOT_DOT_LINE;
+  case ChartSeries::Line::solid:
+    break;
+  }
+  return vtkPen::SOLID_LINE;
+}
+
+int markerStyle(ChartSeries::Marker marker)
+{
+  switch (marker) {
+  case ChartSeries::Marker::circle:
+    return vtkPlotPoints::CIRCLE;
+  case ChartSeries::Marker::square:
+    return vtkPlotPoints::SQUARE;
+  case ChartSeries::Marker::diamond:
+    return vtkPlotPoints::DIAMOND;
+  case ChartSeries::Marker::plus:
+    return vtkPlotPoints::PLUS;
+  case ChartSeries::Marker::cross:
+    return vtkPlotPoints::CROSS;
+  case ChartSeries::Marker::none:
+    break;
+  }
+  return vtkPlotPoints::NONE;
+}
+
+/// A line plot of `chart` in the colour, pattern and marker of `s`, labelled by its name.
+vtkPlot* addStyledLine(vtkChartXY* chart, const ChartSeries& s)
+{
+  vtkPlot* line = chart->AddPlot(vtkChart::LINE);
+  line->SetColor(byte(s.color.r), byte(s.color.g), byte(s.color.b), 255);
+  line->SetWidth(2.5f);
+  line->SetLabel(s.name);
+  line->GetPen()->SetLineType(penType(s.line));
+  if (auto* points = vtkPlotPoints::SafeDownCast(line)) {
+    points->SetMarkerStyle(markerStyle(s.marker));
+    points->SetMarkerSize(9.0f);
+  }
+  return line;
 }
 
 /// The line of `s`, and its band (legend-less, translucent) drawn first beneath it.
@@ -88,13 +143,34 @@ void addSeries(vtkChartXY* chart, const ChartSeries& s)
     }
   table->AddColumn(x);
   table->AddColumn(y);
-  vtkPlot* line = chart->AddPlot(vtkChart::LINE);
-  line->SetInputData(table, 0, 1);
-  line->SetColor(r, g, b, 255);
-  line->SetWidth(2.5f);
-  line->SetLabel(s.name);
-  if (s.dashed)
-    line->GetPen()->SetLineType(vtkPen::DASH_LINE);
+  addStyledLine(chart, s)->SetInputData(table, 0, 1);
+}
+
+/// Whole-number ticks over the panel's x range, which the axis spans with a margin.
+void setIntegerTicks(vtkAxis* axis, const ChartPanel& p)
+{
+  double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+  for (const ChartSeries& s : p.series)
+    for (double x : s.x)
+      if (std::isfinite(x)) {
+        lo = std::min(lo, x);
+        hi = std::max(hi, x);
+      }
+  if (!(lo <= hi))
+    return;
+  const std::vector<double> ticks = integerTicks(lo, hi);
+  if (ticks.empty())
+    return;
+  vtkNew<vtkDoubleArray> positions;
+  vtkNew<vtkStringArray> labels;
+  for (double t : ticks) {
+    positions->InsertNextValue(t);
+    labels->InsertNextValue(std::to_string(std::llround(t)));
+  }
+  const double margin = 0.03 * std::max(hi - lo, 1.0);
+  axis->SetBehavior(vtkAxis::FIXED);
+  axis->SetRange(lo - margin, hi + margin);
+  axis->SetCustomTickPositions(positions, labels);
 }
 
 void styleAxis(vtkAxis* axis, const std::string& title)
@@ -118,18 +194,70 @@ void fillPanel(vtkChartXY* chart, const ChartPanel& p)
     chart->GetAxis(vtkAxis::LEFT)->SetBehavior(vtkAxis::FIXED);
     chart->GetAxis(vtkAxis::LEFT)->SetRange(p.y_min, p.y_max);
   }
-  if (p.legend == ChartPanel::LegendCorner::none || p.series.empty())
-    return;
-  chart->SetShowLegend(true);
-  vtkChartLegend* legend = chart->GetLegend();
-  legend->SetLabelSize(13);
-  legend->SetHorizontalAlignment(vtkChartLegend::RIGHT);
-  legend->SetVerticalAlignment(p.legend == ChartPanel::LegendCorner::top_right
-                                   ? vtkChartLegend::TOP
-                                   : vtkChartLegend::BOTTOM);
+  if (p.integer_x)
+    setIntegerTicks(chart->GetAxis(vtkAxis::BOTTOM), p);
+  chart->SetShowLegend(false); // the figure's legend stands outside the panels
+}
+
+/// Each named series once, as first seen panel by panel.
+std::vector<const ChartSeries*> legendEntries(const std::vector<ChartPanel>& panels)
+{
+  std::vector<const ChartSeries*> entries;
+  for (const ChartPanel& p : panels)
+    for (const ChartSeries& s : p.series)
+      if (!s.name.empty() &&
+          std::none_of(entries.begin(), entries.end(),
+                       [&s](const ChartSeries* e) { return e->name == s.name; }))
+        entries.push_back(&s);
+  return entries;
+}
+
+constexpr int kLegendFontSize = 13;
+constexpr int kLegendPadding = 5;      // vtkChartLegend's default padding
+constexpr int kLegendSymbolWidth = 48; // long enough to show a line's pattern
+constexpr int kLegendMargin = 15;      // between the panels, the legend and the edge
+
+/// The width and height in pixels of `text` as the chart draws it (72 dpi, VTK's
+/// default for a render window).
+vtkVector2i textSize(const std::string& text)
+{
+  vtkNew<vtkTextProperty> property;
+  property->SetFontSize(kLegendFontSize);
+  int bbox[4] = {0, 0, 0, 0};
+  vtkTextRenderer* renderer = vtkTextRenderer::GetInstance();
+  if (renderer == nullptr || !renderer->GetBoundingBox(property, text, bbox, 72))
+    return vtkVector2i(static_cast<int>(8 * text.size()), 2 * kLegendFontSize);
+  return vtkVector2i(bbox[1] - bbox[0] + 1, bbox[3] - bbox[2] + 1);
 }
 
 } // namespace
+
+std::vector<double> integerTicks(double min, double max, int max_ticks)
+{
+  if (!std::isfinite(min) || !std::isfinite(max) || min > max || max_ticks < 2)
+    throw InvalidArgumentError("integer ticks need finite min <= max and at least 2 "
+                               "ticks, not [" +
+                               std::to_string(min) + ", " + std::to_string(max) +
+                               "] with " + std::to_string(max_ticks));
+  const double first = std::ceil(min), last = std::floor(max);
+  std::vector<double> ticks;
+  if (first > last)
+    return ticks;
+  // The first multiple of `step` after `first` that a tick takes, and the tick count.
+  const auto second = [first](double step) {
+    return std::ceil((first + 0.5 * step) / step) * step;
+  };
+  const auto count = [&](double step) {
+    return 1.0 + std::max(0.0, std::floor((last - second(step)) / step) + 1.0);
+  };
+  double step = 1.0;
+  for (int i = 0; count(step) > max_ticks; ++i)
+    step = std::pow(10.0, i / 3) * (i % 3 == 0 ? 2.0 : i % 3 == 1 ? 5.0 : 10.0);
+  ticks.push_back(first);
+  for (double t = second(step); t <= last; t += step)
+    ticks.push_back(t);
+  return ticks;
+}
 
 void LineChartFigure::setSize(int width, int height)
 {
@@ -183,7 +311,46 @@ RgbImage LineChartFigure::renderImage() const
   matrix->SetSize(vtkVector2i(cols, rows));
   // Room for the figure's title above the panels (pixels).
   const int title_px = title_.empty() ? 0 : 40;
-  matrix->SetBorders(70, 55, 20, title_px + 30);
+  const int top_px = title_px + 30;
+
+  // The legend: a box right of the panels, drawn by VTK's legend item from the plots of a
+  // chart that is never drawn itself; the panels' right border makes room for it.
+  const std::vector<const ChartSeries*> entries =
+      show_legend_ ? legendEntries(panels_) : std::vector<const ChartSeries*>();
+  vtkNew<vtkChartXY> legend_chart;
+  vtkNew<vtkChartLegend> legend;
+  int legend_px = 0;
+  if (!entries.empty()) {
+    int label_px = 0;
+    for (const ChartSeries* s : entries) {
+      label_px = std::max(label_px, textSize(s->name).GetX());
+      vtkNew<vtkTable> table; // one point: a plot wants data, though it is not drawn
+      auto x = column("x"), y = column("y");
+      x->InsertNextValue(0.0);
+      y->InsertNextValue(0.0);
+      table->AddColumn(x);
+      table->AddColumn(y);
+      addStyledLine(legend_chart, *s)->SetInputData(table, 0, 1);
+    }
+    const int box_w = label_px + 2 * kLegendPadding + kLegendSymbolWidth;
+    const int line_h = textSize("Tgyf").GetY();
+    const int box_h =
+        static_cast<int>(entries.size()) * (line_h + kLegendPadding) + kLegendPadding;
+    legend_px = box_w + kLegendMargin;
+    legend->SetChart(legend_chart);
+    legend->SetLabelSize(kLegendFontSize);
+    legend->SetPadding(kLegendPadding);
+    legend->SetSymbolWidth(kLegendSymbolWidth);
+    legend->SetHorizontalAlignment(vtkChartLegend::CUSTOM);
+    legend->SetVerticalAlignment(vtkChartLegend::CUSTOM);
+    legend->SetDragEnabled(false);
+    // The box's top beside the top of the first row's plots (scene y runs upwards).
+    legend->SetPoint(vtkVector2f(static_cast<float>(width_ - kLegendMargin - box_w),
+                                 static_cast<float>(height_ - top_px - box_h)));
+    legend->Update();
+    context->GetScene()->AddItem(legend);
+  }
+  matrix->SetBorders(70, 55, 20 + legend_px, top_px);
   matrix->SetGutter(vtkVector2f(80.0f, 85.0f));
   for (int i = 0; i < n; ++i) {
     // The matrix counts rows from the bottom.

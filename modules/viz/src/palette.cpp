@@ -45,5 +45,22 @@ Rgb distinctColor(std::size_t i)
   return kColors[i % (sizeof(kColors) / sizeof(kColors[0]))];
 }
 
+Rgb chartColor(std::size_t i)
+{
+  // Okabe & Ito (2008), as 8-bit sRGB.
+  static constexpr unsigned char kColors[][3] = {
+      {0, 0, 0},       // black
+      {230, 159, 0},   // orange
+      {86, 180, 233},  // sky blue
+      {0, 158, 115},   // bluish green
+      {240, 228, 66},  // yellow
+      {0, 114, 178},   // blue
+      {213, 94, 0},    // vermillion
+      {204, 121, 167}, // reddish purple
+  };
+  const unsigned char* c = kColors[i % (sizeof(kColors) / sizeof(kColors[0]))];
+  return {c[0] / 255.0f, c[1] / 255.0f, c[2] / 255.0f};
+}
+
 } // namespace viz
 } // namespace plantnbv

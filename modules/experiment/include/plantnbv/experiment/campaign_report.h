@@ -17,9 +17,15 @@ namespace plantnbv {
 /// repetition; the patterns of a pre-defined planner are averaged into one unit first.
 /// A trial that stopped early keeps its last scores for the remaining views.
 struct CurveRow {
+  /// The study, its variant (empty for one variant), the planner and the level.
+  ///@{
   std::string study, variant, planner, level;
-  int view = 0;
+  ///@}
+  int view = 0; ///< views taken, 1 = v0 only
+  /// F1, precision, recall and Chamfer distance (metres) over the units.
+  ///@{
   SampleSummary f1, precision, recall, chamfer;
+  ///@}
 };
 
 /// \brief The rows for all done trials (failed ones are left out), ordered by study
@@ -27,7 +33,7 @@ struct CurveRow {
 std::vector<CurveRow> campaignCurves(const std::vector<StoredTrial>& trials);
 
 /// \brief Writes curves.csv: study,variant,planner,level,view, then for each of f1,
-/// precision, recall, chamfer: <m>_mean,<m>_sd,<m>_n,<m>_ci_low,<m>_ci_high (95%,
+/// precision, recall, chamfer: `<m>_mean,<m>_sd,<m>_n,<m>_ci_low,<m>_ci_high` (95%,
 /// Student's t; empty where undefined). \throws IoError if it cannot.
 void writeCurvesCsv(const std::filesystem::path& path, const std::vector<CurveRow>& rows);
 
@@ -35,7 +41,11 @@ void writeCurvesCsv(const std::filesystem::path& path, const std::vector<CurveRo
 /// planner and level (from the mean curve, and the median over units), the relative F1
 /// gain of each NBV planner (kind nbv, named "nbv-...") over the "predefined" and
 /// "random" planners after 3 views, the sensitivity studies beside the main study, and
-/// the paper's own numbers beside ours. \throws IoError if it cannot write.
+/// the paper's own numbers beside ours: only the paper's rows whose planner (and
+/// baseline) the main study ran at that level, with one line that counts those left
+/// out. A section with no row (no NBV planner beside a baseline, no sensitivity study,
+/// none of the paper's rows) is left out, heading and all. \throws IoError if it cannot
+/// write.
 void writeCampaignReport(const std::vector<StoredTrial>& trials,
                          const std::filesystem::path& out_dir, const std::string& title);
 

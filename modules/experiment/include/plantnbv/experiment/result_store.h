@@ -18,27 +18,41 @@ enum class TrialState { missing, done, failed, foreign };
 
 /// \brief Counts of a campaign's trials against its expansion.
 struct StoreStatus {
+  /// The trials of the expansion (total), and how many of them have a done result, a
+  /// failed one, or none of this campaign (missing, `foreign` included).
+  ///@{
   std::size_t total = 0, done = 0, failed = 0, missing = 0;
+  ///@}
   std::size_t foreign = 0;                ///< of `missing`: files of another campaign
   std::vector<std::string> failed_ids;    ///< in expansion order
   std::vector<std::string> failed_errors; ///< their errors
+  /// The done trials whose file gives their time (total_ms), and those times summed, in
+  /// seconds: each trial's own time on one worker, whatever ran beside it.
+  ///@{
+  std::size_t timed = 0;
+  double timed_s = 0.0;
+  ///@}
 };
 
 /// \brief A trial read back from its file (what the report needs).
 struct StoredTrial {
+  /// As TrialSpec's fields of the same names (`plant`: the plant's name).
+  ///@{
   std::string id, study, variant, planner, plant;
-  std::string fingerprint;      ///< TrialSpec::fingerprint it was run for
-  bool has_fingerprint = false; ///< false in files of release 0.1.0
-  int pattern = 0;
-  double yaw_deg = 0.0;
-  int repetition = 0;
-  bool failed = false;
-  std::string error;
-  std::vector<std::string> level_names;
+  ///@}
+  std::string fingerprint;              ///< TrialSpec::fingerprint it was run for
+  bool has_fingerprint = false;         ///< false in files of release 0.1.0
+  int pattern = 0;                      ///< predefined only, 1-4; 0 for other planners
+  double yaw_deg = 0.0;                 ///< the plant's turn about its stem, degrees
+  int repetition = 0;                   ///< 0, 1, ...
+  bool failed = false;                  ///< the trial threw (its error is kept)
+  std::string error;                    ///< the error message of a failed trial
+  std::vector<std::string> level_names; ///< the evaluation levels, in order
   std::vector<std::vector<LevelScore>>
       views; ///< [view][level]; NaN where the file has null
 };
 
+/// \class ResultStore
 /// \brief A campaign directory:
 /// - DIR/campaign.yaml: a copy of the definition the trials were expanded from;
 /// - DIR/campaign.json: its record, {"fingerprint": CampaignDefinition::
@@ -59,13 +73,16 @@ struct StoredTrial {
 /// chamfer, null when NaN); stopped_early, setup_ms, total_ms. Numbers are written in
 /// their shortest round-trip form, so two runs give the same bytes apart from the keys
 /// that end in "_ms". Thread-safe: trials may be written from several threads.
+
 /// \brief The largest Chamfer distance a result file may hold (metres; a scene is a few
 /// metres across).
 constexpr double kMaxStoredChamferM = 1000.0;
 
 class ResultStore {
 public:
+  /// \brief The store in directory `dir` (DIR); nothing is read or written yet.
   explicit ResultStore(std::filesystem::path dir);
+  /// \brief DIR.
   const std::filesystem::path& dir() const { return dir_; }
 
   /// \brief Creates DIR and DIR/trials and writes DIR/campaign.yaml and campaign.json,
@@ -82,8 +99,14 @@ public:
   /// \brief missing if there is no readable result file of spec.id; foreign if its
   /// fingerprint is not spec.fingerprint.
   TrialState state(const TrialSpec& spec) const;
+  /// \brief Writes the trial's file with status "done" and its views (replacing any).
+  /// \throws IoError if it cannot.
   void writeResult(const TrialSpec& spec, const TrialResult& result) const;
+  /// \brief Writes the trial's file with status "failed" and `error` (replacing any).
+  /// \throws IoError if it cannot.
   void writeFailure(const TrialSpec& spec, const std::string& error) const;
+  /// \brief The state of each trial of `specs`, counted (state()), and the done
+  /// trials' times (StoreStatus::timed_s), e.g. for an ETA.
   StoreStatus status(const std::vector<TrialSpec>& specs) const;
 
   /// \brief All result files of DIR/trials, sorted by id (temporary files of
@@ -105,6 +128,9 @@ private:
   /// True where trial files without a fingerprint (release 0.1.0's) are the campaign's
   /// own: DIR has no campaign.json yet, or its record says legacy_trials.
   bool acceptsTrialsWithoutFingerprint() const;
+  /// state(spec), and for a done trial whose file has total_ms, that time in seconds
+  /// (else NaN) into `*total_s`.
+  TrialState readState(const TrialSpec& spec, double* total_s) const;
   bool isTrialOf(const std::string& file_fingerprint, bool has_fingerprint,
                  const TrialSpec& spec) const;
   std::filesystem::path dir_;
