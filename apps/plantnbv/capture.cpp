@@ -26,12 +26,14 @@
 #include <plantnbv/octree/occupancy_map.h>
 #include <plantnbv/sensor/simulated_depth_sensor.h>
 #include <plantnbv/session/memory_estimate.h>
+#include <plantnbv/viz/snapshot.h>
 
 #include "cli_checks.h"
 #include "commands.h"
 #include "frames_out.h"
 #include "map_file.h"
 #include "plant_options.h"
+#include "sensor_options.h"
 
 namespace plantnbv {
 namespace app {
@@ -43,21 +45,61 @@ struct CaptureOptions {
   /// The paper's v0 (Table 1): x, y, z, qx, qy, qz, qw.
   std::vector<double> pose{0.646, 0.353, 1.383, 0.0, 0.0, -0.383, 0.924};
   std::vector<double> optical_pose; ///< if given: the optical frame, instead of `pose`
-  std::string intrinsics = "l515-640";
-  bool noise = false;
+  SensorOptions sensor;
   std::uint64_t noise_seed = 0;
-  bool no_background = false;
   double resolution_m = OccupancyMap::Config().resolution_m;
   std::string output;
   std::string depth;
   std::string map;
+  std::string snapshot;
   std::string frames_out;
   std::optional<double> depth_scale;
   std::optional<double> stamp;
 };
 
+/// The view over the plant: its returns on the plant coloured by part (those on the
+/// floor and support would fill the picture), the plant faded, the camera's frustum.
+void renderSnapshot(const scenario::PlacedPlant& placed, const CloudXYZL& cloud,
+                    const Pose& T_W_C, const CameraIntrinsics& camera,
+                    const std::string& png)
+{
+  std::vector<Eigen::Vector3f> points;
+  std::vector<PartLabel> labels;
+  std::size_t background = 0;
+  for (const pcl::PointXYZL& p : cloud.points)
+    if (!std::isfinite(p.x)) {
+      continue;
+    } else if (p.label < std::uint32_t(PartLabel::background)) {
+      points.push_back(p.getVector3fMap());
+      labels.push_back(static_cast<PartLabel>(p.label));
+    } else {
+      ++background;
+    }
+  viz::SceneSnapshot::Config config;
+  config.width = 1200;
+  config.height = 1200;
+  std::ostringstream title;
+  title << placed.plant.name << ": a " << camera.width << "x" << camera.height
+        << " view\n"
+        << points.size() << " returns on the plant\n"
+        << background << " on floor and support, not shown";
+  config.title = title.str();
+  viz::SceneSnapshot snapshot(config);
+  if (!placed.plant.mesh.empty())
+    snapshot.addMesh(placed.plant.mesh, 0.25);
+  snapshot.addPoints(points, labels, 2.0f);
+  viz::addPartLegend(labels, snapshot);
+  const viz::Rgb frustum{0.25f, 0.25f, 0.25f};
+  snapshot.addCameraFrustum(T_W_C, camera.horizontalFov(), camera.verticalFov(), 0.05,
+                            frustum);
+  snapshot.addLegendEntry("camera", frustum);
+  snapshot.render(png);
+}
+
 void runCapture(const CaptureOptions& o)
 {
+  if (!o.snapshot.empty())
+    requireDisplayOrReexec();
   const bool optical = !o.optical_pose.empty();
   const std::vector<double>& v = optical ? o.optical_pose : o.pose;
   const char* option = optical ? "--optical-pose" : "--pose";
@@ -74,9 +116,10 @@ void runCapture(const CaptureOptions& o)
   if (optical)
     T_W_C = bodyFrame(T_W_C);
   // Output formats are checked before the work, so that nothing is rendered in vain.
-  if (o.output.empty() && o.frames_out.empty() && o.depth.empty() && o.map.empty())
+  if (o.output.empty() && o.frames_out.empty() && o.depth.empty() && o.map.empty() &&
+      o.snapshot.empty())
     throw InvalidArgumentError("nothing to write: give -o CLOUD, --frames-out FRAMES, "
-                               "--depth PNG or --map MAP");
+                               "--depth PNG, --map MAP or --snapshot PNG");
   const std::string cloud_ext = io::extensionOf(o.output);
   if (!o.output.empty() && cloud_ext != ".pcd" && cloud_ext != ".ply")
     throw FormatError("-o '" + o.output + "': expected a .pcd or .ply file");
@@ -88,7 +131,8 @@ void runCapture(const CaptureOptions& o)
     map_config.validate(); // before the work, not after
 
   // What the view and the map will take, before anything is allocated.
-  const CameraIntrinsics camera = parseCameraIntrinsics(o.intrinsics);
+  const CameraIntrinsics camera =
+      intrinsicsOf(o.sensor).value_or(CameraIntrinsics::l515(L515Mode::vga_640x480));
   std::ostringstream what;
   what << "--intrinsics " << camera.width << "x" << camera.height;
   if (!o.map.empty())
@@ -103,7 +147,7 @@ void runCapture(const CaptureOptions& o)
   if (!o.frames_out.empty())
     frames.emplace(o.frames_out,
                    framesCamera(o.frames_out, sensor.getIntrinsics(), o.depth_scale));
-  if (o.noise) {
+  if (o.sensor.noise) {
     NoiseConfig noise;
     noise.enabled = true;
     noise.seed = o.noise_seed;
@@ -112,7 +156,7 @@ void runCapture(const CaptureOptions& o)
   const scenario::PlacedPlant placed = placePlant(o.plant);
   Stopwatch scene_clock;
   PlantSceneConfig scene_config;
-  scene_config.floor = scene_config.support = !o.no_background;
+  scene_config.floor = scene_config.support = !o.sensor.no_background;
   sensor.setScene(makePlantScene(placed.plant, scene_config));
   const double scene_ms = scene_clock.ms();
 
@@ -152,6 +196,10 @@ void runCapture(const CaptureOptions& o)
               << "' (stamp " << std::setprecision(6) << frames->lastStamp()
               << " s, optical pose in groundtruth.txt)\n";
   }
+  if (!o.snapshot.empty()) {
+    renderSnapshot(placed, cloud, T_W_C, K, o.snapshot);
+    std::cout << "wrote " << o.snapshot << "\n";
+  }
   if (!o.map.empty()) {
     OccupancyMap map(map_config);
     map.insert(cloud, opticalFrame(T_W_C).position);
@@ -188,18 +236,18 @@ void addCaptureCommand(CLI::App& app)
       ->delimiter(',')
       ->expected(7)
       ->excludes("--pose");
-  cmd->add_option("--intrinsics", o->intrinsics,
-                  "l515 (1024x768), l515-640, l515-320, or WxH:fx,fy,cx,cy")
-      ->capture_default_str();
-  cmd->add_flag("--noise", o->noise, "L515-like depth noise (off: the paper's sensor)");
+  addSensorOptions(*cmd, o->sensor, "l515-640", "--noise-seed");
   cmd->add_option("--noise-seed", o->noise_seed, "Seed of the noise")
       ->check(unsignedInteger())
       ->capture_default_str()
       ->needs("--noise");
-  cmd->add_flag("--no-background", o->no_background,
-                "Leave out the floor and the support under the plant");
   cmd->add_option("-o,--output", o->output, "Cloud file (.pcd or .ply)");
   cmd->add_option("--depth", o->depth, "Also write the depth image (16-bit PNG, mm)")
+      ->check(pngPath());
+  cmd->add_option("--snapshot", o->snapshot,
+                  "Also render a PNG: the returns coloured by part over the faded plant, "
+                  "the camera (needs X; without a display the tool re-runs itself "
+                  "under xvfb-run)")
       ->check(pngPath());
   cmd->add_option("--map", o->map,
                   "Also insert the view into a new map, write .bt or .ot");

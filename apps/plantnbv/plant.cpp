@@ -5,6 +5,7 @@
 #include <fstream>
 #include <iomanip>
 #include <iostream>
+#include <optional>
 
 #include <CLI/CLI.hpp>
 #include <pcl/point_cloud.h>
@@ -12,6 +13,7 @@
 
 #include <plantnbv/common/error.h>
 #include <plantnbv/common/file_io.h>
+#include <plantnbv/common/roi_kind.h>
 #include <plantnbv/common/stopwatch.h>
 #include <plantnbv/io/cloud_io.h>
 #include <plantnbv/io/mesh_io.h>
@@ -101,9 +103,17 @@ void renderSnapshot(const PlacedPlant& placed, const std::string& png_path)
   viz::SceneSnapshot snapshot(config);
   snapshot.addMesh(placed.plant.mesh);
   snapshot.addPoints(placed.plant.scan_points, placed.plant.scan_labels);
+  viz::addPartLegend(placed.plant.scan_points.empty() ? placed.plant.mesh.labels
+                                                      : placed.plant.scan_labels,
+                     snapshot);
   const std::vector<EvaluationLevel> levels = scenario::evaluationLevels(placed);
-  for (std::size_t i = 0; i < levels.size(); ++i)
-    snapshot.addRoi(levels[i].roi, viz::distinctColor(static_cast<int>(i)));
+  for (std::size_t i = 0; i < levels.size(); ++i) {
+    const viz::Rgb color = viz::distinctColor(i);
+    snapshot.addRoi(levels[i].roi, color);
+    const std::optional<RoiKind> kind = roiKindFromName(levels[i].name);
+    snapshot.addLegendEntry(
+        std::string(kind ? roiKindTitle(*kind) : levels[i].name.c_str()) + " ROI", color);
+  }
   snapshot.render(png_path);
 }
 

@@ -19,9 +19,12 @@ void addPlantOptions(CLI::App& cmd, PlantOptions& o, const std::string& seed_fla
       cmd.add_option(seed_flag, s.seed,
                      "Generate a tomato plant from this seed (0-9: the default set)")
           ->check(unsignedInteger());
-  auto* model = cmd.add_option("--model", s.model,
+  auto* model = cmd.add_option("--model", o.models,
                                "Load a plant instead: a mesh (.dae .obj .ply .stl .wrl) "
-                               "or a scanned cloud (.pcd .ply)");
+                               "or a scanned cloud (.pcd .ply); repeat it for a plant "
+                               "split into several mesh files")
+                    ->expected(1)
+                    ->take_all();
   seed->excludes(model);
   model->excludes(seed);
   cmd.add_option("--stage", s.stage,
@@ -50,12 +53,16 @@ void addPlantOptions(CLI::App& cmd, PlantOptions& o, const std::string& seed_fla
 
 scenario::PlacedPlant placePlant(const PlantOptions& o)
 {
-  if (!o.source.seed && o.source.model.empty())
+  if (!o.source.seed && o.models.empty())
     throw InvalidArgumentError("give a plant: " + o.seed_flag +
                                " S (generated) or --model FILE");
   if (o.base.size() != 3)
     throw InvalidArgumentError("--base must be three numbers x,y,z in metres");
   scenario::PlantSource source = o.source;
+  if (!o.models.empty()) {
+    source.model = o.models.front();
+    source.model_parts.assign(o.models.begin() + 1, o.models.end());
+  }
   source.base = Eigen::Vector3d(o.base[0], o.base[1], o.base[2]);
   scenario::PlacedPlant placed = scenario::makePlacedPlant(source);
   for (const std::string& w : placed.warnings)

@@ -18,19 +18,20 @@
 
 #include <plantnbv/common/error.h>
 #include <plantnbv/common/file_io.h>
+#include <plantnbv/common/roi_kind.h>
 #include <plantnbv/experiment/trial.h>
 #include <plantnbv/io/cloud_io.h>
 #include <plantnbv/io/frames_folder.h>
 #include <plantnbv/io/roi_io.h>
 #include <plantnbv/metrics/reconstruction_metrics.h>
 #include <plantnbv/scenario/trial_setup.h>
-#include <plantnbv/viz/palette.h>
 #include <plantnbv/viz/snapshot.h>
 
 #include "cli_checks.h"
 #include "commands.h"
 #include "frames_out.h"
 #include "plant_options.h"
+#include "sensor_options.h"
 
 namespace plantnbv {
 namespace app {
@@ -43,14 +44,21 @@ struct ReconstructOptions {
   PlantOptions plant;
   scenario::TrialOverrides trial;
   std::string attention = "whole_plant";
+  SensorOptions sensor;
   std::string output_dir;
-  bool snapshot = false;
+  std::string snapshot;
   std::string frames_out;
 };
 
 TrialConfig trialConfig(const ReconstructOptions& o, const PlacedPlant& placed)
 {
-  TrialConfig c = scenario::makeTrialConfig(o.trial, placed, "--");
+  scenario::TrialOverrides overrides = o.trial;
+  overrides.camera = intrinsicsOf(o.sensor);
+  if (o.sensor.noise)
+    overrides.noise = true;
+  if (o.sensor.no_background)
+    overrides.background = false;
+  TrialConfig c = scenario::makeTrialConfig(overrides, placed, "--");
   if (!o.frames_out.empty() && !o.trial.depth_scale && c.depth_scale == 0.0) {
     c.depth_scale = 1000.0; // frames replay to the map only if depth is rounded as PNGs
     c.validate();
@@ -125,6 +133,7 @@ nlohmann::json summaryJson(const ReconstructOptions& o, const PlacedPlant& place
         {"min_range", c.camera.min_range_m},
         {"max_range", c.camera.max_range_m}}},
       {"noise", c.noise.enabled},
+      {"background", c.scene.floor || c.scene.support},
       {"depth_scale", c.depth_scale},
       {"resolution", c.map.resolution_m},
       {"max_range", c.map.max_range_m},
@@ -181,37 +190,73 @@ nlohmann::json summaryJson(const ReconstructOptions& o, const PlacedPlant& place
   return j;
 }
 
-void renderSnapshot(const PlacedPlant& placed, const TrialConfig& c, const TrialResult& r,
-                    const CloudXYZ& occupied, const std::string& png)
+/// The reconstruction at the end of the trial: the voxels the whole-plant level scores,
+/// coloured by outcome against ground truth (the floor's and the support's voxels are
+/// not scored, so not shown), the attention ROI of an NBV planner and the numbered views
+/// along the camera path.
+void renderSnapshot(const PlacedPlant& placed, const TrialConfig& c,
+                    const scenario::Attention& attention, const Roi& attention_roi,
+                    const Trial& trial, const TrialResult& r, const CloudXYZ& occupied,
+                    const std::string& png)
 {
+  const ReconstructionEvaluator& evaluator = trial.getEvaluator();
+  std::size_t level = 0;
+  for (std::size_t l = 0; l < r.level_names.size(); ++l)
+    if (r.level_names[l] == roiKindName(RoiKind::whole_plant))
+      level = l;
+  VoxelOutcomes outcomes;
+  evaluator.classify(occupied, level, outcomes);
+
+  const std::string& scored = r.level_names[level];
+  const std::optional<RoiKind> scored_kind = roiKindFromName(scored);
+  const std::string scored_title = scored_kind ? roiKindTitle(*scored_kind) : scored;
+  const bool nbv = c.planner == PlannerKind::nbv;
+  const std::string roi_title =
+      attention.kind ? roiKindTitle(*attention.kind) : attention.file;
+  std::ostringstream title;
+  title << placed.plant.name << ": " << plannerKindName(c.planner)
+        << (nbv ? ", attention " + roi_title : std::string()) << "\n"
+        << r.steps.size() << " views; F1 " << scored_title << " " << std::fixed
+        << std::setprecision(3) << r.steps.back().scores[level].f1;
   viz::SceneSnapshot::Config config;
   config.width = 1200;
   config.height = 1200;
-  config.title = placed.plant.name + ": " + plannerKindName(c.planner) + ", " +
-                 std::to_string(r.steps.size()) + " views";
+  config.title = title.str();
   viz::SceneSnapshot snapshot(config);
-  if (!placed.plant.mesh.empty())
-    snapshot.addMesh(placed.plant.mesh, viz::Rgb{0.67f, 0.67f, 0.67f}, 0.25);
-  else
-    snapshot.addPoints(placed.plant.scan_points, viz::Rgb{0.67f, 0.67f, 0.67f}, 1.0f);
-  std::vector<Eigen::Vector3f> points;
-  points.reserve(occupied.size());
-  for (const auto& p : occupied)
-    points.push_back(p.getVector3fMap());
-  snapshot.addPoints(points, viz::Rgb{0.12f, 0.55f, 0.24f}, 2.0f);
-  std::vector<Eigen::Vector3d> path;
-  for (const TrialStep& s : r.steps) {
-    path.push_back(s.view.position);
-    snapshot.addCameraFrustum(s.view, c.camera.horizontalFov(), c.camera.verticalFov(),
-                              0.08, viz::distinctColor(s.index), std::to_string(s.index));
+
+  const viz::Rgb correct{0.0f, 0.62f, 0.45f}; // Okabe-Ito bluish green
+  const viz::Rgb wrong{0.84f, 0.37f, 0.0f};   // and vermillion: apart for all eyes
+  const viz::Rgb missed{0.78f, 0.78f, 0.78f};
+  const viz::Rgb roi{0.0f, 0.45f, 0.70f}; // Okabe-Ito blue
+  const viz::Rgb path{0.25f, 0.25f, 0.25f};
+  snapshot.addPoints(outcomes.missed, missed, 1.5f);
+  snapshot.addPoints(outcomes.correct, correct, 3.0f);
+  snapshot.addPoints(outcomes.wrong, wrong, 3.0f);
+  snapshot.addLegendEntry(
+      "correct voxel (" + std::to_string(outcomes.correct.size()) + ")", correct);
+  snapshot.addLegendEntry("wrong voxel (" + std::to_string(outcomes.wrong.size()) + ")",
+                          wrong);
+  snapshot.addLegendEntry(
+      "missed ground truth (" + std::to_string(outcomes.missed.size()) + ")", missed);
+  if (nbv && !attention_roi.empty()) {
+    snapshot.addRoi(attention_roi, roi);
+    snapshot.addLegendEntry("attention ROI: " + roi_title, roi);
   }
-  snapshot.addPolyline(path, viz::Rgb{0.15f, 0.15f, 0.15f});
+  std::vector<Eigen::Vector3d> positions;
+  for (const TrialStep& s : r.steps) {
+    positions.push_back(s.view.position);
+    snapshot.addCameraFrustum(s.view, c.camera.horizontalFov(), c.camera.verticalFov(),
+                              0.05, path, std::to_string(s.index + 1));
+  }
+  snapshot.addPolyline(positions, path);
+  snapshot.addLegendEntry("views 1-" + std::to_string(r.steps.size()) + " in order",
+                          path);
   snapshot.render(png);
 }
 
 void runReconstruct(const ReconstructOptions& o)
 {
-  if (o.snapshot)
+  if (!o.snapshot.empty())
     requireDisplayOrReexec();
   const PlacedPlant placed = placePlant(o.plant);
   const TrialConfig config = trialConfig(o, placed);
@@ -299,14 +344,18 @@ void runReconstruct(const ReconstructOptions& o)
             << (dir / "steps.csv").string()
             << ", summary.json, map.bt, reconstruction.pcd (" << occupied.size()
             << " occupied voxels)";
-  if (o.snapshot) {
-    renderSnapshot(placed, config, result, occupied, (dir / "snapshot.png").string());
-    std::cout << ", snapshot.png";
-  } else if (std::filesystem::remove(dir / "snapshot.png", ec)) {
-    // The folder holds this run's results only: an earlier run's picture would lie.
+  // The folder holds this run's results only: an earlier run's picture would lie.
+  const std::filesystem::path stale = dir / "snapshot.png";
+  const bool overwritten =
+      !o.snapshot.empty() && std::filesystem::equivalent(stale, o.snapshot, ec);
+  if (!overwritten && std::filesystem::remove(stale, ec))
     std::cout << "; removed an earlier run's snapshot.png";
-  }
   std::cout << "\n";
+  if (!o.snapshot.empty()) {
+    renderSnapshot(placed, config, attention, attention_roi, trial, result, occupied,
+                   o.snapshot);
+    std::cout << "snapshot " << o.snapshot << "\n";
+  }
 }
 
 } // namespace
@@ -350,9 +399,12 @@ void addReconstructCommand(CLI::App& app)
   cmd->add_option("--depth-scale", o->trial.depth_scale,
                   "Depth units per metre the trial rounds to (default 0: none; 1000 with "
                   "--frames-out)");
-  cmd->add_flag(
-      "--snapshot", o->snapshot,
-      "Also render DIR/snapshot.png: plant faded, occupied voxels, camera path");
+  addSensorOptions(*cmd, o->sensor, "the config's, else l515-640", "--seed");
+  cmd->add_option("--snapshot", o->snapshot,
+                  "Also render a PNG: the scored voxels coloured by outcome against "
+                  "ground truth, the attention ROI, the numbered views (needs X; "
+                  "without a display the tool re-runs itself under xvfb-run)")
+      ->check(pngPath());
   cmd->callback([o]() { runReconstruct(*o); });
 }
 

@@ -267,8 +267,10 @@ void bindExperiment(py::module_& m)
          std::optional<int> views, std::optional<int> candidates,
          std::optional<double> resolution_m, std::optional<double> sector_height_m,
          std::optional<std::uint64_t> seed, std::optional<int> threads,
-         std::optional<double> depth_scale, std::optional<Path> config,
-         std::optional<Path> map_out, const py::object& progress) {
+         std::optional<double> depth_scale, std::optional<CameraIntrinsics> camera,
+         std::optional<bool> noise, std::optional<bool> background,
+         std::optional<Path> config, std::optional<Path> map_out,
+         const py::object& progress) {
         scenario::TrialOverrides o;
         o.config_file = config ? config->string() : "";
         o.pattern = pattern;
@@ -279,18 +281,24 @@ void bindExperiment(py::module_& m)
         o.seed = seed;
         o.threads = threads;
         o.depth_scale = depth_scale;
+        o.camera = camera;
+        o.noise = noise;
+        o.background = background;
         return runTrial(placed, planner, attention, o, map_out, progress);
       },
       "plant"_a, py::kw_only(), "planner"_a = "nbv", "attention"_a = "whole_plant",
       "pattern"_a = py::none(), "views"_a = py::none(), "candidates"_a = py::none(),
       "resolution_m"_a = py::none(), "sector_height_m"_a = py::none(),
       "seed"_a = py::none(), "threads"_a = py::none(), "depth_scale"_a = py::none(),
+      "camera"_a = py::none(), "noise"_a = py::none(), "background"_a = py::none(),
       "config"_a = py::none(), "map_out"_a = py::none(), "progress"_a = py::none(),
       "One trial on a PlacedPlant, as `plantnbv reconstruct` runs it (the same seed "
       "gives "
       "the same steps): capture at v0, then plan, capture, integrate up to `views`, "
       "scored at every level after each view. `config` is a trial YAML (data/paper.yaml) "
-      "that the other arguments override; `progress(step)` is called after every view; "
+      "that the other arguments override (`camera`, `noise`, `background`: the "
+      "simulated sensor, as reconstruct's --intrinsics, --noise and --no-background); "
+      "`progress(step)` is called after every view; "
       "`map_out` writes the final map (.ot or .bt).");
 
   m.def(

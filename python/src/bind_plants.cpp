@@ -6,6 +6,8 @@
 #include <optional>
 #include <pybind11/stl.h>
 #include <pybind11/stl/filesystem.h>
+#include <variant>
+#include <vector>
 
 #include <pcl/point_cloud.h>
 #include <pcl/point_types.h>
@@ -226,13 +228,21 @@ void bindPlant(py::module_& m)
   m.def(
       "place_plant",
       [](std::optional<std::uint64_t> seed, std::optional<double> stage, bool simplified,
-         const std::string& model, const std::string& labels, const std::string& rois,
-         bool keep_frame, double yaw_deg, const py::handle& base) {
+         const std::variant<std::string, std::vector<std::string>>& model,
+         const std::string& labels, const std::string& rois, bool keep_frame,
+         double yaw_deg, const py::handle& base) {
         PlantSource source;
         source.seed = seed;
         source.stage = stage;
         source.simplified = simplified;
-        source.model = model;
+        if (const auto* files = std::get_if<std::vector<std::string>>(&model)) {
+          if (!files->empty()) { // a plant split into several mesh files
+            source.model = files->front();
+            source.model_parts.assign(files->begin() + 1, files->end());
+          }
+        } else {
+          source.model = std::get<std::string>(model);
+        }
         source.labels = labels;
         source.rois = rois;
         source.keep_frame = keep_frame;
@@ -254,7 +264,8 @@ void bindPlant(py::module_& m)
       "base"_a = std::vector<double>{1.0, 0.0, 0.8},
       "The plant of `plantnbv reconstruct --plant/--model`: a generated tomato plant "
       "(seed, optional growth stage) or a model file (mesh or scanned cloud, with part "
-      "label rules `labels` and an ROI file `rois`), placed at `base` turned by "
+      "label rules `labels` and an ROI file `rois`; a list of mesh files for a plant "
+      "split into several, as --model repeated), placed at `base` turned by "
       "yaw_deg (within +-360 degrees). A label rule that labels nothing is a "
       "UserWarning.");
 }

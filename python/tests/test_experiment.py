@@ -46,6 +46,19 @@ def test_a_trial_equals_reconstruct_with_the_same_seed(placed, cli, tmp_path, pl
     assert step["pose"].shape == (7,) and step["candidates"] in (9, 27)
 
 
+def test_the_sensor_options_are_reconstructs(placed, cli, tmp_path):
+    cli("reconstruct", "--plant", 3, "--views", 2, "--seed", 5, "--intrinsics", "l515-320",
+        "--noise", "--no-background", "-o", tmp_path / "tool")
+    tool = steps_csv(tmp_path / "tool" / "steps.csv")
+    ours = pn.run_trial(placed, views=2, seed=5, camera=pn.CameraIntrinsics.l515("320x240"),
+                        noise=True, background=False).columns()
+    for column, values in tool.items():
+        if not column.endswith("_ms"):
+            np.testing.assert_array_equal(ours[column], values, err_msg=column)
+    plain = pn.run_trial(placed, views=2, seed=5).columns()
+    assert not np.array_equal(plain["whole_plant_f1"], ours["whole_plant_f1"])
+
+
 def test_a_progress_callback_that_raises_stops_the_trial(placed):
     def stop(step):
         raise RuntimeError("enough at view %d" % step["view"])

@@ -71,6 +71,11 @@ def test_scans_and_meshes_become_plants(placed, tmp_path):
     with pytest.warns(UserWarning, match="label rule stem=no_such_node matches no triangle"):
         labelled = pn.place_plant(model=str(tmp_path / "p.ply"), labels="stem=no_such_node")
     assert len(labelled.warnings) == 1
+    # A plant split into two files, as --model repeated: one mesh of both.
+    pn.write_mesh(tmp_path / "q.ply", placed.plant.mesh)
+    split = pn.place_plant(model=[str(tmp_path / "p.ply"), str(tmp_path / "q.ply")])
+    assert len(split.plant.mesh) == 2 * len(placed.plant.mesh)
+    assert "and 1 more file" in split.description
     mesh_plant = pn.plant_from_mesh(pn.read_mesh(tmp_path / "p.ply"), name="m")
     assert mesh_plant.name == "m" and len(mesh_plant.mesh) == len(placed.plant.mesh)
 

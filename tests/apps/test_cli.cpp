@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -384,18 +385,77 @@ TEST_F(CliTest, ReconstructSectorFollowsALoadedModel)
   EXPECT_EQ(summary["config"]["sector"]["height"].get<double>(), 0.5);
 }
 
-TEST_F(CliTest, ReconstructSnapshotShowsTheTrial)
+TEST_F(CliTest, SnapshotNamesItsPngInEveryCommand)
 {
+  // The same option in plant, capture and reconstruct: the PNG to write, beside the
+  // results or anywhere else.
   write("small.yaml", kSmallTrial);
-  const ToolRun r = run("reconstruct --plant 0 --views 2 --config " + path("small.yaml") +
-                        " -o " + path("s") + " --snapshot");
-  ASSERT_EQ(r.code, 0) << r.err;
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"plant --seed 0 -o " + path("p") + " --snapshot " + path("p.png"), "p.png"},
+      {"capture --plant 0 --intrinsics l515-320 --snapshot " + path("c.png"), "c.png"},
+      {"reconstruct --plant 0 --views 2 --config " + path("small.yaml") + " -o " +
+           path("s") + " --snapshot " + path("s/snapshot.png"),
+       "s/snapshot.png"},
+  };
+  for (const auto& [args, png_file] : cases) {
+    SCOPED_TRACE(args);
+    const ToolRun r = run(args);
+    ASSERT_EQ(r.code, 0) << r.err;
+    const std::string png = slurp(path(png_file));
+    ASSERT_GT(png.size(), 24u);
+    EXPECT_EQ(png.substr(1, 3), "PNG");
+    EXPECT_GT(png.size(), 30000u); // not blank
+  }
   const std::string png = slurp(path("s/snapshot.png"));
-  ASSERT_GT(png.size(), 24u);
-  EXPECT_EQ(png.substr(1, 3), "PNG");
   EXPECT_EQ(std::uint8_t(png[18]) * 256 + std::uint8_t(png[19]), 1200); // width
   EXPECT_EQ(std::uint8_t(png[22]) * 256 + std::uint8_t(png[23]), 1200); // height
-  EXPECT_GT(png.size(), 50000u);                                        // not blank
+}
+
+TEST_F(CliTest, APlantSplitIntoSeveralFilesIsGivenByRepeatingModel)
+{
+  // One triangle per file; PLY names no node, so each file's name labels its triangle.
+  const auto ply = [](const char* x0) {
+    return std::string("ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\n"
+                       "property float y\nproperty float z\nelement face 1\n"
+                       "property list uchar int vertex_indices\nend_header\n") +
+           x0 + " 0 0\n" + x0 + " 0.01 0\n" + x0 + " 0 0.3\n3 0 1 2\n";
+  };
+  write("stem.ply", ply("0"));
+  write("leaf.ply", ply("0.1"));
+  const ToolRun r =
+      run("plant --model " + path("stem.ply") + " --model " + path("leaf.ply") +
+          " --labels stem=stem,leaflet=leaf -o " + path("p"));
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_EQ(r.err, "");
+  EXPECT_NE(r.out.find("and 1 more file, labelled by name"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("2 triangles (stem 1, leaflet 1)"), std::string::npos) << r.out;
+}
+
+TEST_F(CliTest, ReconstructTakesTheSensorOptionsOfCapture)
+{
+  write("small.yaml", kSmallTrial);
+  const ToolRun r =
+      run("reconstruct --plant 0 --views 2 --config " + path("small.yaml") +
+          " --intrinsics 320x240:229,229,159.5,119.5 --noise --no-background -o " +
+          path("t"));
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto summary = nlohmann::json::parse(slurp(path("t/summary.json")));
+  const auto& camera = summary["config"]["camera"];
+  EXPECT_EQ(camera["width"], 320);
+  EXPECT_EQ(camera["height"], 240);
+  EXPECT_EQ(camera["fx"], 229.0);
+  EXPECT_EQ(camera["cy"], 119.5);
+  EXPECT_EQ(summary["config"]["noise"], true);
+  EXPECT_EQ(summary["config"]["background"], false);
+  // Without them: the config's camera, no noise, the floor and the support.
+  ASSERT_EQ(run("reconstruct --plant 0 --views 2 --config " + path("small.yaml") +
+                " -o " + path("u"))
+                .code,
+            0);
+  const auto plain = nlohmann::json::parse(slurp(path("u/summary.json")));
+  EXPECT_EQ(plain["config"]["camera"]["width"], 160);
+  EXPECT_EQ(plain["config"]["noise"], false);
+  EXPECT_EQ(plain["config"]["background"], true);
 }
 
 namespace {
@@ -587,8 +647,9 @@ TEST_F(CliTest, CampaignKilledRunResumesWithEveryTrialDoneOnce)
       << resumed.out;
   const ToolRun status = run("campaign status " + path("run"));
   ASSERT_EQ(status.code, 0) << status.err;
-  EXPECT_NE(status.out.find("12 trials, 12 done, 0 failed, 0 missing"), std::string::npos)
-      << status.out;
+  EXPECT_NE(status.out.find("12 trials, 12 done, 0 failed, 0 missing\n"),
+            std::string::npos)
+      << status.out;                         // nothing left: no ETA
   for (const auto& [name, bytes] : finished) // kept as they were: none run twice
     EXPECT_EQ(slurp(trials / name), bytes) << name;
 
@@ -631,6 +692,17 @@ TEST_F(CliTest, CampaignKilledRunResumesWithEveryTrialDoneOnce)
   EXPECT_EQ(slurp(path("ref-report/summary.md")), summary);
   EXPECT_NE(summary.find("| nbv-leaf-nodes | predefined |"), std::string::npos)
       << summary;
+  // The paper's rows for the planners and levels that ran (10 of 30), no sensitivity
+  // section (there is no such study).
+  EXPECT_NE(summary.find("\n20 of the paper's 30 rows have no trial in this campaign"),
+            std::string::npos)
+      << summary;
+  EXPECT_NE(summary.find("| leaf_nodes | nbv-leaf-nodes | views to F1 0.8 | 3 | "),
+            std::string::npos)
+      << summary;
+  EXPECT_EQ(summary.find("not run"), std::string::npos) << summary;
+  EXPECT_EQ(summary.find("| main_stem |"), std::string::npos) << summary;
+  EXPECT_EQ(summary.find("## Sensitivity studies"), std::string::npos) << summary;
   // The figures: PNGs 1200 px wide (the IHDR chunk's width, big-endian, at byte 16).
   for (const char* png : {"f1_main.png", "chamfer_main.png"}) {
     const std::string bytes = slurp(path(std::string("report/") + png));
@@ -639,6 +711,46 @@ TEST_F(CliTest, CampaignKilledRunResumesWithEveryTrialDoneOnce)
     const auto byte = [&](int i) { return static_cast<unsigned char>(bytes[i]); };
     EXPECT_EQ((byte(18) << 8) | byte(19), 1200) << png;
   }
+}
+
+TEST_F(CliTest, CampaignStatusGivesTheEtaFromTheDoneTrialsTimes)
+{
+  // Half the trials (a chunk), then status: the other 6 at the done trials' mean time,
+  // by the rule of the run's own progress lines, for the trials at a time given.
+  write("tiny.yaml", tinyCampaign());
+  const ToolRun half = run("campaign run-chunk " + path("tiny.yaml") + " -o " +
+                           path("c") + " --chunk 0 --chunks 2 -j 2");
+  ASSERT_EQ(half.code, 0) << half.err;
+  double sum_s = 0.0;
+  for (const auto& [name, j] : trialFiles(dir_ / "c"))
+    sum_s += j["total_ms"].get<double>() / 1000.0;
+  auto clock = [](double seconds) {
+    const long s = std::lround(seconds);
+    char text[32];
+    std::snprintf(text, sizeof(text), "%ld:%02ld", s / 60, s % 60);
+    return std::string(text);
+  };
+  char mean[32];
+  std::snprintf(mean, sizeof(mean), "%.1f", sum_s / 6);
+  for (const int jobs : {1, 2, 4}) {
+    const ToolRun status =
+        run("campaign status " + path("c") + " -j " + std::to_string(jobs));
+    ASSERT_EQ(status.code, 0) << status.err;
+    // 6 left at `jobs` at a time: 6 * (mean / jobs) = sum / jobs.
+    EXPECT_NE(status.out.find("12 trials, 6 done, 0 failed, 6 missing, ETA " +
+                              clock(sum_s / jobs) + " at " + std::to_string(jobs) +
+                              (jobs == 1 ? " trial" : " trials") +
+                              " at a time (a trial took " + mean + " s on average)\n"),
+              std::string::npos)
+        << status.out;
+  }
+  // The default: as many at a time as `campaign run` takes (all cores).
+  const ToolRun status = run("campaign status " + path("c"));
+  ASSERT_EQ(status.code, 0) << status.err;
+  EXPECT_TRUE(std::regex_search(
+      status.out, std::regex("6 missing, ETA [0-9]+:[0-9]{2} at [0-9]+ trials? at a "
+                             "time \\(a trial took [0-9]+\\.[0-9] s on average\\)\n")))
+      << status.out;
 }
 
 TEST_F(CliTest, CampaignTrialThatThrowsIsRecordedAndTheOthersFinish)
@@ -726,8 +838,10 @@ std::map<int, std::vector<std::string>> taskFileIds(const fs::path& file)
 TEST_F(CliTest, CampaignReportReadsResultsOfTheFirstRelease)
 {
   // data/fixtures/campaign-0.1.0: a campaign directory written by plantnbv 0.1.0 (its
-  // campaign.yaml spells the attention leaf-nodes), with that release's report beside
-  // it. Read today, the report is the same, byte for byte.
+  // campaign.yaml spells the attention leaf-nodes), with its report beside it. Read
+  // today, the report is the same, byte for byte: curves.csv as that release wrote it,
+  // summary.md as the layout is now (no empty section, only the paper's rows that ran;
+  // the numbers are that release's).
   const fs::path fixture = fs::path(kFixtures) / "campaign-0.1.0";
   const fs::path dir = path("old");
   fs::create_directories(dir);
@@ -1114,7 +1228,7 @@ TEST_F(CliTest, ASecondRunInTheSameFolderLeavesOnlyItsOwnResults)
 {
   // A run with a snapshot, then one without it in the same folder: the old picture goes.
   const std::string trial = "reconstruct --plant 1 --views 1 -o " + path("t");
-  ASSERT_EQ(run(trial + " --snapshot").code, 0);
+  ASSERT_EQ(run(trial + " --snapshot " + path("t/snapshot.png")).code, 0);
   ASSERT_TRUE(fs::exists(path("t/snapshot.png")));
   // The second with the user's own boxes on the generated plant, scored as model_rois.
   const ToolRun again = run(trial + " --rois " + kFixtures + "/rois.yaml --yaw-deg 30");
@@ -1143,8 +1257,8 @@ TEST_F(CliTest, InputsThatWouldGiveMeaninglessResultsAreWarnedAbout)
   EXPECT_EQ(r.err, "plantnbv: warning: label rule stem=no_such_node matches no triangle "
                    "of '" +
                        kFixtures +
-                       "/plant_cm_zup.dae' (rules match node names; the first that "
-                       "matches wins)\n");
+                       "/plant_cm_zup.dae' (rules match node names, or the file's "
+                       "name where it has none; the first that matches wins)\n");
   // A voxel as large as the ROIs: one warning per level whose boxes it cannot resolve.
   r = run("reconstruct --plant 1 --views 1 --resolution 0.02 -o " + path("coarse"));
   ASSERT_EQ(r.code, 0) << r.err;
@@ -1227,8 +1341,9 @@ std::map<std::string, std::string> filesUnder(const fs::path& dir)
 TEST_F(CliTest, AFullDiskFailsTheCommandNamingTheFileAndKeepsThePreviousFiles)
 {
   write("small.yaml", kSmallTrial);
+  // Three levels: a report over the limit below (summary.md, about 1.2 KiB).
   write("one.yaml", "name: one\nseed: 1\nplants: [{seed: 0}]\nyaws_deg: [0]\nviews: 2\n"
-                    "levels: [whole_plant]\ntrial:\n"
+                    "levels: [whole_plant, main_stem, leaf_nodes]\ntrial:\n"
                     "  camera: 160x120:114.25,114.25,79.5,59.5\n"
                     "  gain: {rays_x: 32, rays_y: 24}\n"
                     "studies:\n  - name: main\n    planners: [{type: random}]\n");
@@ -1262,8 +1377,8 @@ TEST_F(CliTest, AFullDiskFailsTheCommandNamingTheFileAndKeepsThePreviousFiles)
       // command fails at its first file over the limit, whichever it is.
       {"plant --seed 0 --snapshot " + path("ps/plant.png") + " -o " + path("ps"), "ps",
        path("ps/")},
-      {"reconstruct --plant 0 --views 2 --config " + path("small.yaml") +
-           " --snapshot -o " + path("ts"),
+      {"reconstruct --plant 0 --views 2 --config " + path("small.yaml") + " --snapshot " +
+           path("ts/snapshot.png") + " -o " + path("ts"),
        "ts", path("t")},
       {"campaign submit " + path("many.yaml") + " -o " + path("sub") + " --dry-run",
        "sub", "job.sbatch"},

@@ -91,6 +91,9 @@ const std::vector<BadCall> kBadCalls = {
     {"capture --plant 1 --intrinsics l516 -o {d}/v.pcd", 1, "l516"},
     {"capture --plant 1 --resolution -1 --map {d}/m.bt -o {d}/v.pcd", 1, "resolution"},
     {"capture --plant 1 -o {d}/v.xyz", 1, "v.xyz"},
+    {"capture --plant 1", 1,
+     "nothing to write: give -o CLOUD, --frames-out FRAMES, --depth PNG, --map MAP or "
+     "--snapshot PNG"},
     {"capture --plant 1 --map {d}/m.vdb -o {d}/v.pcd", 1, "m.vdb"},
     // reconstruct
     {"reconstruct --plant 1 --planner greedy -o {d}/x", 1, "greedy"},
@@ -260,6 +263,16 @@ const std::vector<BadCall> kBadCalls = {
      "got"},
     {"capture --plant 1 --depth {d}/c.jpeg -o {d}/c.pcd", 2,
      "--depth: expected a file name ending in .png"},
+    {"plant --model {f}/plant_like.ply --model {d}/scan.pcd -o {d}/x", 1,
+     "scan.pcd': a plant split into several files takes mesh files"},
+    {"capture --plant 1 --snapshot {d}/c.jpg", 2,
+     "--snapshot: expected a file name ending in .png"},
+    {"reconstruct --plant 1 --snapshot {d}/x.jpg -o {d}/x", 2,
+     "--snapshot: expected a file name ending in .png"},
+    {"reconstruct --plant 1 -o {d}/x --snapshot", 2, "--snapshot"},
+    {"reconstruct --plant 1 --intrinsics l516 -o {d}/x", 1, "--intrinsics: "},
+    {"reconstruct --plant 1 --intrinsics 640x480:0,500,320,240 -o {d}/x", 1,
+     "--intrinsics: "},
     {"reconstruct --plant 1 --config {d}/grid8.yaml --candidates 27 -o {d}/x", 1,
      "--candidates 27: expected a multiple of the 8 grid cells (8, 24, 40, ...)"},
 };

@@ -17,8 +17,10 @@ Plant squarePlant(double z)
 {
   Plant plant;
   plant.name = "square";
-  plant.mesh.vertices = {{0.0f, 0.0f, float(z)}, {0.06f, 0.0f, float(z)},
-                         {0.06f, 0.06f, float(z)}, {0.0f, 0.06f, float(z)}};
+  plant.mesh.vertices = {{0.0f, 0.0f, float(z)},
+                         {0.06f, 0.0f, float(z)},
+                         {0.06f, 0.06f, float(z)},
+                         {0.0f, 0.06f, float(z)}};
   plant.mesh.triangles = {{0, 1, 2}, {0, 2, 3}};
   plant.mesh.labels = {PartLabel::leaflet, PartLabel::leaflet};
   return plant;
@@ -33,6 +35,27 @@ TriangleMesh supportPlate()
 Box boxAround(double x0, double x1)
 {
   return Box::fromMinMax({x0, -0.01, 0.0}, {x1, 0.07, 0.02});
+}
+
+/// The map of a square plant of 12 x 12 voxels of `res` lying on the support plate:
+/// every voxel of the bottom layer of x, y in [-2, 13] (the plant's rows y < `plant_rows`
+/// and the support's), a row of noise above the support, and 4 voxels far from it.
+CloudXYZ mapOverTheSupport(double res, int plant_rows)
+{
+  CloudXYZ map;
+  auto add = [&](int x, int y, int z) {
+    map.push_back(pcl::PointXYZ(float((x + 0.5) * res), float((y + 0.5) * res),
+                                float((z + 0.5) * res)));
+  };
+  for (int x = -2; x <= 13; ++x)
+    for (int y = -2; y <= 13; ++y)
+      if (x < 0 || x > 11 || y < 0 || y > 11 || y < plant_rows)
+        add(x, y, 0);
+  for (int x = -2; x <= 13; ++x)
+    add(x, -2, 1);
+  for (int x = 0; x < 4; ++x)
+    add(x, 5, 6);
+  return map;
 }
 
 } // namespace
@@ -104,20 +127,7 @@ TEST(ReconstructionEvaluator, LeavesTheBackgroundsVoxelsOut)
   evaluator.setLevels({{"whole", box}});
   EXPECT_EQ(evaluator.backgroundVoxelCount(), 0u);
 
-  // The map: every voxel of the box's bottom layer (the plant's 144 and 112 of the
-  // support), a row of noise above the support, and 4 voxels far from it.
-  CloudXYZ map;
-  auto add = [&](int x, int y, int z) {
-    map.push_back(pcl::PointXYZ(float((x + 0.5) * res), float((y + 0.5) * res),
-                                float((z + 0.5) * res)));
-  };
-  for (int x = -2; x <= 13; ++x)
-    for (int y = -2; y <= 13; ++y)
-      add(x, y, 0);
-  for (int x = -2; x <= 13; ++x)
-    add(x, -2, 1);
-  for (int x = 0; x < 4; ++x)
-    add(x, 5, 6);
+  const CloudXYZ map = mapOverTheSupport(res, 12);
   std::vector<LevelScore> without, with;
   evaluator.compute(map, without);
   EXPECT_EQ(without[0].reconstruction_points, 276u);
@@ -147,6 +157,62 @@ TEST(ReconstructionEvaluator, LeavesTheBackgroundsVoxelsOut)
   EXPECT_THROW(evaluator.setBackground(support), FormatError);
 }
 
+TEST(ReconstructionEvaluator, ClassifiesTheVoxelsItScores)
+{
+  // The map of the background test: the plant's 144 voxels, the support's, noise over
+  // it and 4 far voxels; half of the plant is left out of this reconstruction.
+  const double res = 0.005;
+  const Roi box({Box::fromMinMax({-0.01, -0.01, 0.0}, {0.07, 0.07, 0.04})});
+  ReconstructionEvaluator evaluator;
+  evaluator.setResolution(res);
+  evaluator.setGroundTruth(squarePlant(0.0025));
+  evaluator.setLevels({{"whole", box}, {"left", Roi({boxAround(-0.01, 0.03)})}});
+  evaluator.setBackground(supportPlate());
+  const CloudXYZ map = mapOverTheSupport(res, 6); // the plant's upper half is missed
+
+  std::vector<LevelScore> scores;
+  evaluator.compute(map, scores);
+  for (std::size_t level = 0; level < 2; ++level) {
+    SCOPED_TRACE(level);
+    VoxelOutcomes outcomes;
+    evaluator.classify(map, level, outcomes);
+    const LevelScore& s = scores[level];
+    // The same voxels as the scores, split as precision and recall count them.
+    EXPECT_EQ(outcomes.correct.size() + outcomes.wrong.size(), s.reconstruction_points);
+    EXPECT_DOUBLE_EQ(double(outcomes.correct.size()) / double(s.reconstruction_points),
+                     s.precision);
+    EXPECT_DOUBLE_EQ(double(s.reference_points - outcomes.missed.size()) /
+                         double(s.reference_points),
+                     s.recall);
+  }
+  VoxelOutcomes whole;
+  evaluator.classify(map, 0, whole);
+  EXPECT_EQ(whole.correct.size(), 72u); // 12 x 6 voxels of the plant
+  EXPECT_EQ(whole.wrong.size(), 4u);    // the far ones: the support's are background
+  // Missed: the ground truth of the upper half, less the voxels next to the lower half
+  // that float rounding puts closer than rho (the metrics' rule, computed here by brute
+  // force).
+  std::size_t missed = 0;
+  for (const pcl::PointXYZ& t : evaluator.getGroundTruth()) {
+    bool near = false;
+    for (const Eigen::Vector3f& r : whole.correct) {
+      const double dx = double(t.x) - r.x(), dy = double(t.y) - r.y(),
+                   dz = double(t.z) - r.z();
+      near = near || std::sqrt(dx * dx + dy * dy + dz * dz) < res;
+    }
+    missed += !near;
+  }
+  EXPECT_EQ(whole.missed.size(), missed);
+  EXPECT_GE(missed, 60u); // rows 7-11 at least
+  for (const Eigen::Vector3f& p : whole.missed)
+    EXPECT_GT(p.y(), float(6 * res));
+  for (const Eigen::Vector3f& p : whole.wrong)
+    EXPECT_FLOAT_EQ(p.z(), float(6.5 * res));
+
+  VoxelOutcomes none;
+  EXPECT_THROW(evaluator.classify(map, 2, none), InvalidArgumentError);
+}
+
 TEST(ReconstructionEvaluator, RejectsBadInput)
 {
   ReconstructionEvaluator evaluator;
@@ -156,6 +222,7 @@ TEST(ReconstructionEvaluator, RejectsBadInput)
   EXPECT_THROW(evaluator.setGroundTruth(Plant()), InvalidArgumentError);
   evaluator.setGroundTruth(squarePlant(0.0));
   EXPECT_THROW(evaluator.setLevels({{"whole", Roi()}}), InvalidArgumentError);
-  EXPECT_THROW(evaluator.setLevels({{"a", Roi({boxAround(0, 1)})}, {"a", Roi({boxAround(0, 1)})}}),
-               InvalidArgumentError);
+  EXPECT_THROW(
+      evaluator.setLevels({{"a", Roi({boxAround(0, 1)})}, {"a", Roi({boxAround(0, 1)})}}),
+      InvalidArgumentError);
 }

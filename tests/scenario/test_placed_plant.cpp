@@ -1,5 +1,6 @@
 #include <cmath>
 #include <limits>
+#include <sstream>
 
 #include <gtest/gtest.h>
 
@@ -101,4 +102,48 @@ TEST_F(ScenarioFiles, AScansLabelsBeyondOursAreBackgroundWithAWarning)
   std::vector<PartLabel> expected = {PartLabel::stem, PartLabel::background,
                                      PartLabel::leaflet, PartLabel::background};
   EXPECT_EQ(placed.plant.scan_labels, expected);
+}
+
+TEST_F(ScenarioFiles, APlantSplitIntoSeveralMeshFilesIsOneMeshLabelledByFileName)
+{
+  // A stem and a leaf in two PLY files (no node names: each file's name stands for its
+  // triangles), and an OBJ whose groups name its triangles.
+  const auto ply = [](double x0) {
+    std::ostringstream s;
+    s << "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+         "property float z\nelement face 1\nproperty list uchar int vertex_indices\n"
+         "end_header\n"
+      << x0 << " 0 0\n"
+      << x0 + 0.01 << " 0 0\n"
+      << x0 << " 0 0.3\n3 0 1 2\n";
+    return s.str();
+  };
+  PlantSource source;
+  source.model = write("stem.ply", ply(0.0));
+  source.model_parts = {write("leaf.ply", ply(0.1)),
+                        std::string(PLANTNBV_DATA_DIR) + "/fixtures/two_groups.obj"};
+  source.labels = "stem=stem,leaflet=leaf";
+  source.keep_frame = true;
+  const PlacedPlant placed = makePlacedPlant(source);
+  const TriangleMesh& mesh = placed.plant.mesh;
+  ASSERT_GE(mesh.size(), 3u);
+  EXPECT_EQ(mesh.labels[0], PartLabel::stem);
+  EXPECT_EQ(mesh.labels[1], PartLabel::leaflet);
+  for (std::size_t t = 2; t < mesh.size(); ++t) // the OBJ's groups match no rule
+    EXPECT_EQ(mesh.labels[t], PartLabel::unknown);
+  EXPECT_EQ(placed.plant.name, "stem");
+  EXPECT_NE(placed.description.find("and 2 more files"), std::string::npos);
+  EXPECT_TRUE(placed.warnings.empty());
+
+  // A scan cannot be one of several files; parts need a model.
+  PlantSource scan = source;
+  scan.model_parts = {write("scan.pcd",
+                            "# .PCD v0.7\nVERSION 0.7\nFIELDS x y z\nSIZE 4 4 "
+                            "4\nTYPE F F F\nCOUNT 1 1 1\nWIDTH 1\nHEIGHT 1\n"
+                            "VIEWPOINT 0 0 0 1 0 0 0\nPOINTS 1\nDATA "
+                            "ascii\n0 0 0\n")};
+  EXPECT_NE(errorOf([&] { makePlacedPlant(scan); }).find("scan.pcd"), std::string::npos);
+  PlantSource parts_only;
+  parts_only.model_parts = {source.model};
+  EXPECT_THROW(makePlacedPlant(parts_only), InvalidArgumentError);
 }

@@ -176,6 +176,101 @@ TEST(SceneSnapshot, TitleIsDrawn)
   EXPECT_GT(dark_in_top_left(snapshot.renderImage()), 10u);
 }
 
+TEST(SceneSnapshot, LegendEntriesAreSquaresOfTheirColourInABandAtTheBottom)
+{
+  SceneSnapshot::Config config;
+  config.width = 400;
+  config.height = 400;
+  config.label_size_px = 40; // squares of 30 px
+  config.multisamples = 0;
+  SceneSnapshot snapshot(config);
+  const plantnbv::viz::Rgb red{1, 0, 0}, blue{0, 0, 1}, green{0, 1, 0};
+  snapshot.addLegendEntry("red", red);
+  EXPECT_TRUE(snapshot.empty()); // a legend alone is not a scene
+  snapshot.addLegendEntry("a long blue entry that needs its own row", blue);
+  // A cloud that fills the picture as far as the automatic camera lets it.
+  std::vector<Eigen::Vector3f> cloud;
+  for (int i = 0; i <= 40; ++i)
+    for (int k = 0; k <= 40; ++k)
+      cloud.emplace_back(0.0f, 0.01f * i, 0.01f * k);
+  snapshot.addPoints(cloud, green, 6.0f);
+  const RgbImage image = snapshot.renderImage();
+  // Rows where a colour is exactly there, and how many pixels.
+  const auto rows = [&](const plantnbv::viz::Rgb& c, int& top, int& bottom) {
+    std::size_t n = 0;
+    top = image.height;
+    bottom = -1;
+    for (int y = 0; y < image.height; ++y)
+      for (int x = 0; x < image.width; ++x) {
+        const std::uint8_t* p = image.at(x, y);
+        if (p[0] == 255 * c.r && p[1] == 255 * c.g && p[2] == 255 * c.b) {
+          ++n;
+          top = std::min(top, y);
+          bottom = std::max(bottom, y);
+        }
+      }
+    return n;
+  };
+  int red_top, red_bottom, blue_top, blue_bottom;
+  EXPECT_NEAR(double(rows(red, red_top, red_bottom)), 900.0, 100.0);
+  EXPECT_NEAR(double(rows(blue, blue_top, blue_bottom)), 900.0, 100.0);
+  EXPECT_LT(red_bottom, blue_top); // two rows, the first entry on top
+  EXPECT_GT(red_top, image.height / 2);
+  // The cloud is lit (not exactly green): any pixel that is not white is the scene's or
+  // the legend's; the scene keeps above the band.
+  int scene_bottom = -1;
+  for (int y = 0; y < red_top - 5; ++y)
+    for (int x = 0; x < image.width; ++x)
+      if (!isWhite(image.at(x, y)))
+        scene_bottom = y;
+  EXPECT_GT(scene_bottom, image.height / 3); // it is drawn
+  for (int y = red_top - 5; y < blue_top - 5; ++y)
+    for (int x = image.width / 2; x < image.width; ++x) { // right of the red entry
+      EXPECT_TRUE(isWhite(image.at(x, y))) << x << ", " << y;
+    }
+
+  EXPECT_THROW(snapshot.addLegendEntry("", red), plantnbv::InvalidArgumentError);
+  EXPECT_THROW(snapshot.addLegendEntry("x", plantnbv::viz::Rgb{2, 0, 0}),
+               plantnbv::InvalidArgumentError);
+  snapshot.clear(); // the legend too
+  snapshot.addPoints(cloud, green, 6.0f);
+  const RgbImage cleared = snapshot.renderImage();
+  for (int y = 0; y < cleared.height; ++y)
+    for (int x = 0; x < cleared.width; ++x)
+      ASSERT_FALSE(cleared.at(x, y)[0] == 255 && cleared.at(x, y)[1] == 0)
+          << x << ", " << y;
+}
+
+TEST(SceneSnapshot, PartLegendListsThePartsThatOccur)
+{
+  SceneSnapshot::Config config;
+  config.width = 600;
+  config.height = 300;
+  config.label_size_px = 40;
+  config.multisamples = 0;
+  SceneSnapshot snapshot(config);
+  snapshot.addPoints({Eigen::Vector3f(0, 0, 0)}, plantnbv::viz::Rgb{0, 0, 0});
+  plantnbv::viz::addPartLegend({PartLabel::fruit, PartLabel::stem, PartLabel::fruit},
+                               snapshot);
+  const RgbImage image = snapshot.renderImage();
+  std::size_t per_part[7] = {};
+  for (int y = 0; y < image.height; ++y)
+    for (int x = 0; x < image.width; ++x)
+      for (int l = 0; l < 7; ++l) {
+        const auto c = plantnbv::viz::partLabelColor(static_cast<PartLabel>(l));
+        const std::uint8_t* p = image.at(x, y);
+        per_part[l] += p[0] == std::lround(255 * c.r) && p[1] == std::lround(255 * c.g) &&
+                       p[2] == std::lround(255 * c.b);
+      }
+  for (int l = 0; l < 7; ++l) {
+    SCOPED_TRACE(l);
+    if (l == int(PartLabel::stem) || l == int(PartLabel::fruit))
+      EXPECT_NEAR(double(per_part[l]), 900.0, 100.0);
+    else
+      EXPECT_LT(per_part[l], 50u);
+  }
+}
+
 TEST(SceneSnapshot, EmptySceneIsAnError)
 {
   SceneSnapshot snapshot;

@@ -1,20 +1,19 @@
-#include <plantnbv/experiment/reconstruction_evaluator.h>
-
 #include <cmath>
 #include <cstdint>
 #include <limits>
 #include <set>
 #include <unordered_set>
 
-#include <pcl/point_cloud.h>
 #include <pcl/common/point_tests.h>
+#include <pcl/point_cloud.h>
 #include <pcl/point_types.h>
 
 #include <plantnbv/common/error.h>
+#include <plantnbv/common/voxel_lattice.h>
+#include <plantnbv/experiment/reconstruction_evaluator.h>
 #include <plantnbv/filters/roi_crop.h>
 #include <plantnbv/filters/voxel_grid_filter.h>
 #include <plantnbv/metrics/reconstruction_metrics.h>
-#include <plantnbv/common/voxel_lattice.h>
 #include <plantnbv/sampling/mesh_sampler.h>
 
 namespace plantnbv {
@@ -60,7 +59,8 @@ struct ReconstructionEvaluator::Impl {
   /// Where background_keys were looked for (the levels' bounding box).
   Box background_region;
 
-  void updateBackgroundKeys(const std::vector<EvaluationLevel>& levels, double resolution);
+  void updateBackgroundKeys(const std::vector<EvaluationLevel>& levels,
+                            double resolution);
   /// Per level, the ROIs scored separately (one per box, or the whole ROI) and the
   /// ground truth cropped to each.
   std::vector<std::vector<Roi>> parts;
@@ -149,7 +149,8 @@ void ReconstructionEvaluator::setGroundTruth(const Plant& plant)
   if (!plant.mesh.empty()) {
     MeshSampler sampler;
     sampler.setInputMesh(std::make_shared<TriangleMesh>(plant.mesh));
-    sampler.setNumberOfPoints(groundTruthSampleCount(sampler.getSurfaceArea(), resolution_m_));
+    sampler.setNumberOfPoints(
+        groundTruthSampleCount(sampler.getSurfaceArea(), resolution_m_));
     sampler.setSeed(seed_);
     sampler.sample(*samples);
   } else if (!plant.scan_points.empty()) {
@@ -225,25 +226,31 @@ const CloudXYZ& ReconstructionEvaluator::getGroundTruth() const
   return *impl_->ground_truth;
 }
 
-void ReconstructionEvaluator::compute(const CloudXYZ& reconstruction,
-                                      std::vector<LevelScore>& scores) const
+CloudXYZConstPtr
+ReconstructionEvaluator::withoutBackground(const CloudXYZ& reconstruction) const
 {
-  // Copy once (the metrics and the crop take shared pointers), less the background.
+  // Copied once (the metrics and the crop take shared pointers).
   auto kept = std::make_shared<CloudXYZ>();
   if (impl_->background_keys.empty()) {
     *kept = reconstruction;
-  } else {
-    const VoxelLattice lattice(resolution_m_);
-    kept->reserve(reconstruction.size());
-    for (const pcl::PointXYZ& p : reconstruction) {
-      VoxelKey key;
-      if (impl_->background_region.contains(p.x, p.y, p.z) &&
-          keyOf(p, lattice, key) && impl_->background_keys.count(key))
-        continue;
-      kept->push_back(p);
-    }
+    return kept;
   }
-  const CloudXYZ::ConstPtr cloud = kept;
+  const VoxelLattice lattice(resolution_m_);
+  kept->reserve(reconstruction.size());
+  for (const pcl::PointXYZ& p : reconstruction) {
+    VoxelKey key;
+    if (impl_->background_region.contains(p.x, p.y, p.z) && keyOf(p, lattice, key) &&
+        impl_->background_keys.count(key))
+      continue;
+    kept->push_back(p);
+  }
+  return kept;
+}
+
+void ReconstructionEvaluator::compute(const CloudXYZ& reconstruction,
+                                      std::vector<LevelScore>& scores) const
+{
+  const CloudXYZ::ConstPtr cloud = withoutBackground(reconstruction);
   scores.assign(levels_.size(), LevelScore{});
   for (std::size_t l = 0; l < levels_.size(); ++l) {
     LevelScore& s = scores[l];
@@ -271,6 +278,32 @@ void ReconstructionEvaluator::compute(const CloudXYZ& reconstruction,
     s.chamfer = chamfer_count ? chamfer_sum / double(chamfer_count)
                               : std::numeric_limits<double>::quiet_NaN();
   }
+}
+
+void ReconstructionEvaluator::classify(const CloudXYZ& reconstruction, std::size_t level,
+                                       VoxelOutcomes& outcomes) const
+{
+  if (level >= levels_.size())
+    throw InvalidArgumentError("evaluation level " + std::to_string(level) +
+                               " does not exist (" + std::to_string(levels_.size()) +
+                               " levels)");
+  const Roi& roi = levels_[level].roi;
+  const CloudXYZ::ConstPtr mine = crop(withoutBackground(reconstruction), roi);
+  const CloudXYZ::ConstPtr truth = crop(impl_->ground_truth, roi);
+  ReconstructionMetrics metrics;
+  metrics.setThreshold(resolution_m_);
+  metrics.setNumberOfThreads(threads_);
+  metrics.setReference(truth);
+  metrics.setReconstruction(mine);
+  std::vector<double> to_truth, to_mine;
+  metrics.computeDistances(to_truth, to_mine);
+  outcomes = VoxelOutcomes{};
+  for (std::size_t i = 0; i < mine->size(); ++i)
+    (to_truth[i] < resolution_m_ ? outcomes.correct : outcomes.wrong)
+        .push_back((*mine)[i].getVector3fMap());
+  for (std::size_t i = 0; i < truth->size(); ++i)
+    if (!(to_mine[i] < resolution_m_))
+      outcomes.missed.push_back((*truth)[i].getVector3fMap());
 }
 
 } // namespace plantnbv

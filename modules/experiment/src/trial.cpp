@@ -167,6 +167,13 @@ void Trial::setPlant(std::shared_ptr<const Plant> plant)
   plant_ = std::move(plant);
 }
 
+const ReconstructionEvaluator& Trial::getEvaluator() const
+{
+  if (!evaluator_)
+    throw InvalidArgumentError("Trial: no evaluator before run()");
+  return *evaluator_;
+}
+
 void Trial::run(TrialResult& result)
 {
   if (!plant_)
@@ -187,7 +194,8 @@ void Trial::run(TrialResult& result)
     sensor.setNoise(noise);
   }
   sensor.setScene(makePlantScene(*plant_, c.scene, static_cast<unsigned int>(c.threads)));
-  ReconstructionEvaluator evaluator;
+  evaluator_ = std::make_shared<ReconstructionEvaluator>();
+  ReconstructionEvaluator& evaluator = *evaluator_;
   evaluator.setResolution(c.map.resolution_m);
   evaluator.setSeed(groundTruthSeed(c.seed));
   evaluator.setNumberOfThreads(c.threads);

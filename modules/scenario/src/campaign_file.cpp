@@ -52,7 +52,16 @@ void readPlants(const YamlReader& r, const YAML::Node& node, const std::string& 
                 }},
                {"model",
                 [&](const YAML::Node& n, const std::string& k) {
-                  plant.model = r.read<std::string>(n, k, "a file name");
+                  // One file, or a list: a plant split into several mesh files.
+                  if (n.IsSequence()) {
+                    for (std::size_t i = 0; i < n.size(); ++i)
+                      (i ? plant.model_parts.emplace_back() : plant.model) =
+                          r.read<std::string>(n[i], k + "[" + std::to_string(i) + "]",
+                                              "a file name");
+                  } else {
+                    plant.model =
+                        r.read<std::string>(n, k, "a file name or a list of them");
+                  }
                 }},
                {"labels",
                 [&](const YAML::Node& n, const std::string& k) {
@@ -358,6 +367,8 @@ void runCampaignTrial(const CampaignFile& f, const TrialSpec& t, TrialResult& re
     source.simplified = t.simplified;
   }
   source.model = resolve(f, plant.model);
+  for (const std::string& part : plant.model_parts)
+    source.model_parts.push_back(resolve(f, part));
   source.labels = plant.labels;
   source.rois = resolve(f, plant.rois);
   source.yaw_deg = t.yaw_deg;

@@ -35,6 +35,8 @@ void checkSource(const PlantSource& s)
   if (s.seed && (!s.labels.empty() || s.keep_frame))
     throw InvalidArgumentError(
         "plant source: labels and keep_frame belong to a model file");
+  if (!s.model_parts.empty() && s.model.empty())
+    throw InvalidArgumentError("plant source: model parts without a model file");
   if (!s.model.empty() && (s.stage || s.simplified))
     throw InvalidArgumentError(
         "plant source: stage and simplified belong to a generated plant");
@@ -100,13 +102,40 @@ Plant scannedPlant(const std::string& path, const std::string& name, bool keep_f
   return plantFromScan(std::move(points), std::move(labels), name, keep_frame);
 }
 
+/// The model's mesh files as one mesh. A file that names no node or mesh (PLY, STL)
+/// names its triangles by its file's stem, so that label rules can tell the files of a
+/// plant split by part apart ("stem=stem" for stem.ply).
+TriangleMesh loadModelMesh(const PlantSource& s)
+{
+  std::vector<std::string> files{s.model};
+  files.insert(files.end(), s.model_parts.begin(), s.model_parts.end());
+  TriangleMesh all;
+  for (const std::string& file : files) {
+    if (io::fileKind(file) != io::FileKind::mesh)
+      throw FormatError("model '" + file +
+                        "': a plant split into several files takes mesh files (.dae "
+                        ".obj .ply .stl .wrl)");
+    TriangleMesh mesh = io::loadMesh(file);
+    const bool named = std::any_of(mesh.node_names.begin(), mesh.node_names.end(),
+                                   [](const std::string& n) { return !n.empty(); });
+    if (!named || mesh.node_ids.empty()) {
+      mesh.node_names = {std::filesystem::path(file).stem().string()};
+      mesh.node_ids.assign(mesh.triangles.size(), 0);
+    }
+    all.append(mesh);
+  }
+  return all;
+}
+
 PlacedPlant modelPlant(const PlantSource& s, double yaw_rad)
 {
   PlacedPlant out;
   const std::string name = std::filesystem::path(s.model).stem().string();
-  switch (io::fileKind(s.model)) {
+  const io::FileKind kind =
+      s.model_parts.empty() ? io::fileKind(s.model) : io::FileKind::mesh;
+  switch (kind) {
   case io::FileKind::mesh: {
-    TriangleMesh mesh = io::loadMesh(s.model);
+    TriangleMesh mesh = loadModelMesh(s);
     if (!s.labels.empty()) {
       const std::vector<PartLabelRule> rules = parsePartLabelRules(s.labels);
       const std::vector<std::size_t> labelled = applyPartLabelRules(mesh, rules);
@@ -114,8 +143,10 @@ PlacedPlant modelPlant(const PlantSource& s, double yaw_rad)
         if (labelled[i] == 0)
           out.warnings.push_back(
               "label rule " + std::string(partLabelName(rules[i].label)) + "=" +
-              rules[i].pattern + " matches no triangle of '" + s.model +
-              "' (rules match node names; the first that matches wins)");
+              rules[i].pattern + " matches no triangle of '" + s.model + "'" +
+              (s.model_parts.empty() ? "" : " and its other files") +
+              " (rules match node names, or the file's name where it has none; the "
+              "first that matches wins)");
     }
     out.plant = plantFromMesh(std::move(mesh), name, s.keep_frame);
     break;
@@ -134,7 +165,11 @@ PlacedPlant modelPlant(const PlantSource& s, double yaw_rad)
   out.rois.emplace(RoiKind::whole_plant, boundingBoxRoi(out.plant));
 
   std::ostringstream d;
-  d << "model " << s.model << (s.labels.empty() ? "" : ", labelled by name")
+  d << "model " << s.model;
+  if (!s.model_parts.empty())
+    d << " and " << s.model_parts.size() << " more file"
+      << (s.model_parts.size() > 1 ? "s" : "");
+  d << (s.labels.empty() ? "" : ", labelled by name")
     << (s.keep_frame ? ", file frame kept" : "");
   out.description = d.str();
   return out;

@@ -125,6 +125,12 @@ TrialConfig makeTrialConfig(const TrialOverrides& o, const PlacedPlant& placed,
     c.threads = *o.threads;
   if (o.depth_scale)
     c.depth_scale = *o.depth_scale;
+  if (o.camera)
+    c.camera = *o.camera;
+  if (o.noise)
+    c.noise.enabled = *o.noise;
+  if (o.background)
+    c.scene.floor = c.scene.support = *o.background;
   fitSectorToPlant(placed, o.sector_height_m, c);
   c.validate();
   return c;

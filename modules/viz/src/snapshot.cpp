@@ -9,6 +9,7 @@
 
 #include <Eigen/Geometry>
 #include <vtkActor.h>
+#include <vtkActor2D.h>
 #include <vtkCamera.h>
 #include <vtkCellArray.h>
 #include <vtkFloatArray.h>
@@ -19,7 +20,9 @@
 #include <vtkPoints.h>
 #include <vtkPolyData.h>
 #include <vtkPolyDataMapper.h>
+#include <vtkPolyDataMapper2D.h>
 #include <vtkProperty.h>
+#include <vtkProperty2D.h>
 #include <vtkRenderWindow.h>
 #include <vtkRenderer.h>
 #include <vtkSmartPointer.h>
@@ -309,6 +312,51 @@ int labelSizePx(const SceneSnapshot::Config& c)
   return c.label_size_px > 0 ? c.label_size_px : std::max(8, c.height / 30);
 }
 
+/// One entry of the legend, placed: its row (0 = the bottom one) and left edge (px).
+struct LegendEntry {
+  std::string text;
+  Rgb color;
+  int row = 0;
+  double left_px = 0.0;
+};
+
+/// The legend's geometry: letters 3/4 of the frustum labels' height, a square of the
+/// letter height, a gap, the text (0.55 letter heights per character), a wider gap to
+/// the next entry.
+struct LegendLayout {
+  explicit LegendLayout(const SceneSnapshot::Config& c) : size(0.75 * labelSizePx(c)) {}
+  double size;
+  double margin() const { return 0.5 * size; }
+  double rowHeight() const { return 1.6 * size; }
+  double swatchGap() const { return 0.5 * size; }
+  double width(const std::string& text) const
+  {
+    return size + swatchGap() + 0.55 * size * double(text.size()) + 1.5 * size;
+  }
+
+  /// Places the entries in rows of at most `width_px`; returns the number of rows.
+  int place(std::vector<LegendEntry>& entries, int width_px) const
+  {
+    int rows = entries.empty() ? 0 : 1;
+    double x = margin();
+    for (LegendEntry& e : entries) {
+      const double w = width(e.text);
+      if (x > margin() && x + w > width_px - margin()) {
+        ++rows;
+        x = margin();
+      }
+      e.row = rows - 1;
+      e.left_px = x;
+      x += w;
+    }
+    for (LegendEntry& e : entries) // row 0 at the bottom: the first row on top
+      e.row = rows - 1 - e.row;
+    return rows;
+  }
+  /// The band's height in pixels.
+  double band(int rows) const { return rows ? rows * rowHeight() + margin() : 0.0; }
+};
+
 /// Projects world points into the picture of `pose` as VTK does (perspective, vertical
 /// view angle, square pixels): display coordinates in pixels, y from the bottom row.
 class Projection {
@@ -416,6 +464,48 @@ void addLabelActors(const std::vector<FrustumLabel>& labels, const CameraPose& p
   }
 }
 
+/// The legend along the bottom (SceneSnapshot::addLegendEntry): squares and texts.
+void addLegendActors(std::vector<LegendEntry> entries, const SceneSnapshot::Config& c,
+                     vtkRenderer* overlay)
+{
+  const LegendLayout layout(c);
+  layout.place(entries, c.width);
+  const double ink = luminance(c.background) > 0.5 ? 0.1 : 0.95;
+  for (const LegendEntry& e : entries) {
+    const double middle = layout.margin() + (e.row + 0.5) * layout.rowHeight();
+    const double half = 0.5 * layout.size;
+    vtkNew<vtkPoints> corners;
+    corners->InsertNextPoint(e.left_px, middle - half, 0.0);
+    corners->InsertNextPoint(e.left_px + layout.size, middle - half, 0.0);
+    corners->InsertNextPoint(e.left_px + layout.size, middle + half, 0.0);
+    corners->InsertNextPoint(e.left_px, middle + half, 0.0);
+    vtkNew<vtkCellArray> square;
+    const vtkIdType ids[4] = {0, 1, 2, 3};
+    square->InsertNextCell(4, ids);
+    vtkNew<vtkPolyData> polygon;
+    polygon->SetPoints(corners);
+    polygon->SetPolys(square);
+    vtkNew<vtkPolyDataMapper2D> mapper;
+    mapper->SetInputData(polygon);
+    vtkNew<vtkActor2D> swatch;
+    swatch->SetMapper(mapper);
+    swatch->GetProperty()->SetColor(e.color.r, e.color.g, e.color.b);
+    overlay->AddActor2D(swatch);
+
+    vtkNew<vtkTextActor> text;
+    text->SetInput(e.text.c_str());
+    vtkTextProperty* property = text->GetTextProperty();
+    property->SetFontSize(static_cast<int>(layout.size));
+    property->SetFontFamilyToArial();
+    property->SetColor(ink, ink, ink);
+    property->SetJustificationToLeft();
+    property->SetVerticalJustificationToCentered();
+    text->GetPositionCoordinate()->SetCoordinateSystemToDisplay();
+    text->SetPosition(e.left_px + layout.size + layout.swatchGap(), middle);
+    overlay->AddActor2D(text);
+  }
+}
+
 std::uint8_t toByte(float v)
 {
   return static_cast<std::uint8_t>(std::lround(std::clamp(v, 0.0f, 1.0f) * 255.0f));
@@ -450,6 +540,7 @@ struct SceneSnapshot::Impl {
   /// class comment).
   std::vector<vtkSmartPointer<vtkActor>> overlay_actors;
   std::vector<FrustumLabel> labels;
+  std::vector<LegendEntry> legend;
   bool translucent = false;   ///< a mesh with opacity below 1 was added
   Eigen::AlignedBox3d bounds; ///< empty until something is added
   /// Every point drawn (vertices, box corners, cloud points): the automatic camera fits
@@ -684,11 +775,20 @@ void SceneSnapshot::addPoints(const std::vector<Eigen::Vector3f>& points,
       impl_->extend(p);
 }
 
+void SceneSnapshot::addLegendEntry(const std::string& text, const Rgb& color)
+{
+  if (text.empty())
+    throw InvalidArgumentError("a legend entry needs a text");
+  checkColor(color, "legend colour");
+  impl_->legend.push_back({text, color});
+}
+
 void SceneSnapshot::clear()
 {
   impl_->actors.clear();
   impl_->overlay_actors.clear();
   impl_->labels.clear();
+  impl_->legend.clear();
   impl_->translucent = false;
   impl_->bounds.setEmpty();
   impl_->points.clear();
@@ -729,12 +829,21 @@ CameraPose SceneSnapshot::camera() const
   // the margin all round, and a band at the top for the title.
   const double tan_half = std::tan(0.5 * c.view_angle_rad);
   const double title_band =
-      c.title.empty() ? 0.0 : 2.0 * (0.02 * c.height + 1.25 * titleSizePx(c)) / c.height;
-  // A huge title still leaves the scene a tenth of the height.
+      c.title.empty()
+          ? 0.0
+          : 2.0 *
+                (0.02 * c.height +
+                 1.25 * titleSizePx(c) *
+                     double(1 + std::count(c.title.begin(), c.title.end(), '\n'))) /
+                c.height;
+  std::vector<LegendEntry> legend = impl_->legend;
+  const LegendLayout layout(c);
+  const double legend_band = 2.0 * layout.band(layout.place(legend, c.width)) / c.height;
+  // A huge title or legend still leaves the scene a tenth of the height.
   const double tan_top = tan_half * std::max(0.1, 1.0 - c.auto_margin - title_band);
-  const double tan_bottom = tan_half * (1.0 - c.auto_margin);
+  const double tan_bottom = tan_half * std::max(0.1, 1.0 - c.auto_margin - legend_band);
   const double tan_side = tan_half * (1.0 - c.auto_margin) * c.width / c.height;
-  const double target_y = -0.5 * title_band * tan_half; // centre of the usable part
+  const double target_y = 0.5 * (tan_top - tan_bottom); // centre of the usable part
   const auto& points = impl_->points;
   // The nearest distance from `focal` at which every point projects inside the usable
   // part of the picture: |x| <= tan_side * depth, -tan_bottom * depth <= y <= tan_top *
@@ -838,6 +947,8 @@ RgbImage SceneSnapshot::renderImage() const
     overlay->AddActor2D(title);
   }
 
+  addLegendActors(impl_->legend, c, overlay);
+
   // The connection outlives the window, which uses it and does not close it.
   detail::XDisplayConnection display;
   vtkNew<vtkRenderWindow> window;
@@ -863,6 +974,20 @@ RgbImage SceneSnapshot::renderImage() const
 void SceneSnapshot::render(const std::string& png_path) const
 {
   writePng(renderImage(), png_path);
+}
+
+void addPartLegend(const std::vector<PartLabel>& labels, SceneSnapshot& snapshot)
+{
+  constexpr std::size_t kLabels = static_cast<std::size_t>(PartLabel::background) + 1;
+  bool seen[kLabels] = {};
+  for (PartLabel l : labels)
+    if (static_cast<std::size_t>(l) < kLabels)
+      seen[static_cast<std::size_t>(l)] = true;
+  for (std::size_t l = 0; l < kLabels; ++l)
+    if (seen[l]) {
+      const PartLabel label = static_cast<PartLabel>(l);
+      snapshot.addLegendEntry(partLabelName(label), partLabelColor(label));
+    }
 }
 
 } // namespace viz

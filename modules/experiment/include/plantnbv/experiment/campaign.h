@@ -16,20 +16,21 @@ namespace plantnbv {
 /// \brief A plant of a campaign: generated from a seed, or a model file (paths are
 /// kept as given; the app loads them).
 struct CampaignPlant {
-  std::string name;                  ///< in trial ids: "plant03" or the model's name
-  std::optional<std::uint64_t> seed; ///< a generated tomato plant
-  std::optional<double> stage;       ///< its growth stage (default: the generator's)
-  bool simplified = false;           ///< half of the leaflets removed
-  std::string model;                 ///< or a mesh / cloud file
-  std::string labels;                ///< part label rules of a mesh model
-  std::string rois;                  ///< ROI file of a model
+  std::string name;                     ///< in trial ids: "plant03" or the model's name
+  std::optional<std::uint64_t> seed;    ///< a generated tomato plant
+  std::optional<double> stage;          ///< its growth stage (default: the generator's)
+  bool simplified = false;              ///< half of the leaflets removed
+  std::string model;                    ///< or a mesh / cloud file
+  std::vector<std::string> model_parts; ///< further mesh files of the model
+  std::string labels;                   ///< part label rules of a mesh model
+  std::string rois;                     ///< ROI file of a model
 };
 
 /// \brief A planner of a study: NBV with an attention ROI, pre-defined with its
 /// patterns (one trial per pattern, averaged as one planner in the report), or random.
 struct CampaignPlanner {
-  std::string name; ///< e.g. "nbv-leaf-nodes"; in trial ids
-  PlannerKind kind = PlannerKind::nbv;
+  std::string name;                    ///< e.g. "nbv-leaf-nodes"; in trial ids
+  PlannerKind kind = PlannerKind::nbv; ///< nbv, predefined or random
   std::string attention; ///< nbv: whole-plant, main-stem, leaf-nodes, fruit or a ROI file
   std::vector<int> patterns; ///< predefined: 1-4 each
 };
@@ -38,24 +39,24 @@ struct CampaignPlanner {
 /// give (each list left empty takes the campaign's value: one variant).
 struct CampaignStudy {
   std::string name; ///< "main", "occlusion", ...; first part of trial ids
-  std::vector<CampaignPlanner> planners;
-  std::vector<bool> simplified; ///< plants with half of their leaflets removed
-  std::vector<int> candidates;  ///< candidates per step (multiples of the grid cells)
+  std::vector<CampaignPlanner> planners; ///< each runs on every plant, yaw and variant
+  std::vector<bool> simplified;          ///< plants with half of their leaflets removed
+  std::vector<int> candidates; ///< candidates per step (multiples of the grid cells)
   std::vector<double> resolutions_m; ///< map resolution = rho
 };
 
 /// \brief A whole campaign (plain values; apps read it from YAML).
 struct CampaignDefinition {
-  std::string name;
-  std::uint64_t seed = 0; ///< trial seeds derive from it and the trial id
-  std::vector<CampaignPlant> plants;
+  std::string name;                  ///< names the campaign in reports
+  std::uint64_t seed = 0;            ///< trial seeds derive from it and the trial id
+  std::vector<CampaignPlant> plants; ///< every study runs on each
   std::vector<double> yaws_deg{0.0}; ///< turns of each plant about its stem
   int views = 10;                    ///< view budget, v0 included
-  int candidates = 27;
-  double resolution_m = 0.003;
-  int repetitions = 1;
-  std::vector<std::string> levels; ///< evaluation levels; empty: all the plant has
-  std::vector<CampaignStudy> studies;
+  int candidates = 27;         ///< candidates per step, unless a study lists its own
+  double resolution_m = 0.003; ///< map resolution = rho (metres), unless a study lists
+  int repetitions = 1;         ///< trials per plant, yaw and variant, with other seeds
+  std::vector<std::string> levels;    ///< evaluation levels; empty: all the plant has
+  std::vector<CampaignStudy> studies; ///< the studies, in order
   /// What the campaign file says, hashed (contentFingerprint of its canonical text:
   /// comments, key order and quoting do not change it); set by the file's reader, empty
   /// for a definition built in code. Part of every trial's fingerprint.
@@ -72,21 +73,21 @@ struct TrialSpec {
   /// "main/nbv-leaf-nodes/plant03/yaw090/rep0", "main/predefined-p2/plant03/yaw090/rep0",
   /// "candidates/nbv-leaf-nodes/c45/plant03/yaw090/rep0".
   std::string id;
-  std::string study;
+  std::string study;   ///< CampaignStudy::name
   std::string variant; ///< e.g. "c45", "res5mm", "simplified"; empty for one variant
   std::string planner; ///< the planner's name (patterns of one predefined share it)
-  PlannerKind kind = PlannerKind::nbv;
-  std::string attention;       ///< nbv only
-  int pattern = 0;             ///< predefined only, 1-4
-  std::size_t plant_index = 0; ///< into CampaignDefinition::plants
-  std::string plant;           ///< its name
-  bool simplified = false;
-  double yaw_deg = 0.0;
-  int repetition = 0;
-  int candidates = 27;
-  double resolution_m = 0.003;
-  int views = 10;
-  std::uint64_t seed = 0; ///< deriveSeed(campaign seed, hash of the id)
+  PlannerKind kind = PlannerKind::nbv; ///< nbv, predefined or random
+  std::string attention;               ///< nbv only
+  int pattern = 0;                     ///< predefined only, 1-4
+  std::size_t plant_index = 0;         ///< into CampaignDefinition::plants
+  std::string plant;                   ///< its name
+  bool simplified = false;             ///< half of the plant's leaflets removed
+  double yaw_deg = 0.0;                ///< the plant's turn about its stem, degrees
+  int repetition = 0;                  ///< 0, 1, ... (CampaignDefinition::repetitions)
+  int candidates = 27;                 ///< candidates per step
+  double resolution_m = 0.003;         ///< map resolution = rho (metres)
+  int views = 10;                      ///< view budget, v0 included
+  std::uint64_t seed = 0;              ///< deriveSeed(campaign seed, hash of the id)
   /// What determines the trial's result, hashed: the campaign's content_fingerprint,
   /// the id and the seed. Its result file carries it; a file whose fingerprint differs
   /// is another campaign's and is not taken as this trial's result.

@@ -8,6 +8,8 @@
 #include <string>
 #include <vector>
 
+#include <Eigen/Core>
+
 #include <plantnbv/common/box.h>
 #include <plantnbv/common/pcl_fwd.h>
 #include <plantnbv/common/triangle_mesh.h>
@@ -20,9 +22,9 @@ namespace plantnbv {
 /// averaged (the paper's leaf nodes: one score per node, averaged over the three);
 /// otherwise the union of the boxes is scored once.
 struct EvaluationLevel {
-  std::string name;
-  Roi roi;
-  bool average_boxes = false;
+  std::string name;           ///< e.g. "whole_plant", "main_stem", "leaf_nodes"
+  Roi roi;                    ///< the boxes scored (world frame, metres)
+  bool average_boxes = false; ///< score each box alone and average (leaf nodes)
 };
 
 /// \brief The scores of one level. Precision, recall and F1 at rho = the resolution
@@ -31,12 +33,25 @@ struct EvaluationLevel {
 /// reconstruction scores 0), Chamfer the mean over the boxes where it is defined.
 /// Chamfer is NaN where no box has points on both sides.
 struct LevelScore {
+  /// Share of the reconstruction's voxels closer than rho to ground truth, in [0, 1].
   double precision = 0.0;
+  /// Share of the ground-truth voxels closer than rho to the reconstruction, in [0, 1].
   double recall = 0.0;
-  double f1 = 0.0;
-  double chamfer = 0.0;
-  std::size_t reference_points = 0;      ///< ground-truth voxels in the level's boxes
+  double f1 = 0.0;                  ///< harmonic mean of precision and recall
+  double chamfer = 0.0;             ///< Chamfer distance (metres); NaN where undefined
+  std::size_t reference_points = 0; ///< ground-truth voxels in the level's boxes
   std::size_t reconstruction_points = 0; ///< occupied voxels in the level's boxes
+};
+
+/// \brief The voxels behind one level's scores, sorted by outcome (metres, world frame),
+/// e.g. to colour a picture of a reconstruction.
+struct VoxelOutcomes {
+  /// Reconstruction voxels closer than rho to ground truth: precision's hits.
+  std::vector<Eigen::Vector3f> correct;
+  /// The other reconstruction voxels the level scores: precision's misses.
+  std::vector<Eigen::Vector3f> wrong;
+  /// Ground-truth voxels with no reconstruction voxel closer than rho: recall's misses.
+  std::vector<Eigen::Vector3f> missed;
 };
 
 /// \brief Ground truth computed once per plant and pose, then scores for any number of
@@ -68,6 +83,7 @@ public:
   /// \brief Voxel size of ground truth and rho (metres, > 0). Default 0.003. Call before
   /// setGroundTruth. \throws InvalidArgumentError otherwise.
   void setResolution(double resolution_m);
+  /// \brief Voxel size of ground truth and rho (metres).
   double getResolution() const { return resolution_m_; }
   /// \brief Seed of the surface sampling. Default 0.
   void setSeed(std::uint64_t seed) { seed_ = seed; }
@@ -81,6 +97,7 @@ public:
   /// once per box. \throws InvalidArgumentError for an empty ROI or a repeated name, or
   /// if setGroundTruth was not called.
   void setLevels(const std::vector<EvaluationLevel>& levels);
+  /// \brief The levels, in the order compute() reports them.
   const std::vector<EvaluationLevel>& getLevels() const { return levels_; }
 
   /// \brief The scene's surfaces that are not the plant (for a trial, the floor and
@@ -107,7 +124,17 @@ public:
   /// per thread.
   void compute(const CloudXYZ& reconstruction, std::vector<LevelScore>& scores) const;
 
+  /// \brief The voxels that compute() scores at level `level` (index into the levels),
+  /// by outcome: the background left out, cropped to the union of the level's boxes
+  /// (as one, also for a level with average_boxes), matched at distance < rho.
+  /// \throws InvalidArgumentError for a level index out of range.
+  void classify(const CloudXYZ& reconstruction, std::size_t level,
+                VoxelOutcomes& outcomes) const;
+
 private:
+  /// `reconstruction` less the background's voxels (setBackground).
+  CloudXYZConstPtr withoutBackground(const CloudXYZ& reconstruction) const;
+
   struct Impl;
   std::unique_ptr<Impl> impl_;
   std::vector<EvaluationLevel> levels_;

@@ -33,6 +33,7 @@ enum class PlannerKind {
   predefined, ///< PredefinedPlanner: the 9 grid-cell centres in one of 4 patterns
   random,     ///< RandomPlanner: one of the freshly sampled candidates
 };
+/// \brief "nbv", "predefined" or "random" (the names configs and trial ids use).
 const char* plannerKindName(PlannerKind kind);
 /// \throws InvalidArgumentError naming the string and the accepted names.
 PlannerKind plannerKindFromName(const std::string& name);
@@ -47,6 +48,7 @@ inline Eigen::Vector3d paperPlantBase()
 /// \brief Everything a trial needs besides the plant and the ROIs. Defaults: the paper's
 /// Table 1 (data/paper.yaml), the L515 at 640 x 480, noise off.
 struct TrialConfig {
+  /// The simulated camera's image size, pinhole model and range limits.
   CameraIntrinsics camera = CameraIntrinsics::l515(L515Mode::vga_640x480);
   /// Off by default (the paper's sensor was noise-free); its seed is derived from `seed`.
   NoiseConfig noise;
@@ -56,16 +58,16 @@ struct TrialConfig {
   /// takes the frame as a robot's would come (ActiveVisionSession::integrate of the
   /// depth image), so that the frames a trial writes replay to its map bit for bit.
   double depth_scale = 0.0;
-  PlantSceneConfig scene; ///< floor and support by default
-  OccupancyMap::Config map;
+  PlantSceneConfig scene;   ///< floor and support by default
+  OccupancyMap::Config map; ///< resolution (= rho), sensor model, max range
 
-  PlannerKind planner = PlannerKind::nbv;
-  int pattern = 1; ///< predefined planner's pattern, 1-4
+  PlannerKind planner = PlannerKind::nbv; ///< which planner chooses the views
+  int pattern = 1;                        ///< predefined planner's pattern, 1-4
   /// The cylindrical sector; its axis_base is replaced by the plant's base, so that the
   /// sector moves with the plant.
   CylindricalSector sector;
-  int grid_rows = 3;
-  int grid_cols = 3;
+  int grid_rows = 3;        ///< sector grid rows (along z), >= 1
+  int grid_cols = 3;        ///< sector grid columns (along the arc), >= 1
   int samples_per_cell = 3; ///< 1, 3, 5 give the paper's 9, 27, 45 candidates
   /// Ray grid and range of the gain; its fields of view are replaced by the camera's.
   GainConfig gain;
@@ -112,14 +114,14 @@ public:
 
 /// \brief What happened at one view.
 struct TrialStep {
-  int index = 0; ///< 0 = v0
-  Viewpoint view;
-  double gain = 0.0; ///< the chosen view's gain (bits); NaN for v0
-  std::size_t candidates = 0;
-  double plan_ms = 0.0; ///< 0 for v0
-  double capture_ms = 0.0;
-  double insert_ms = 0.0;
-  double eval_ms = 0.0;
+  int index = 0;                   ///< 0 = v0
+  Viewpoint view;                  ///< the camera body pose of this view (world frame)
+  double gain = 0.0;               ///< the chosen view's gain (bits); NaN for v0
+  std::size_t candidates = 0;      ///< the candidates the view was chosen from; 0 for v0
+  double plan_ms = 0.0;            ///< 0 for v0
+  double capture_ms = 0.0;         ///< rendering the depth frame
+  double insert_ms = 0.0;          ///< integrating it into the map
+  double eval_ms = 0.0;            ///< scoring the map against ground truth
   std::size_t occupied_voxels = 0; ///< in the whole map after this view
   std::vector<LevelScore> scores;  ///< per evaluation level, in the Trial's order
 };
@@ -133,8 +135,8 @@ struct TrialFrame {
 
 /// \brief The outcome of Trial::run.
 struct TrialResult {
-  std::vector<std::string> level_names;
-  std::vector<TrialStep> steps;
+  std::vector<std::string> level_names; ///< the evaluation levels, in order
+  std::vector<TrialStep> steps;         ///< one per view, v0 first
   bool stopped_early = false; ///< the NBV planner's gain fell below stop_gain_bits
   double setup_ms = 0.0;      ///< scene (BVH) and ground truth
   double total_ms = 0.0;      ///< setup and all steps
@@ -159,16 +161,22 @@ struct TrialResult {
 /// timings) on any number of threads.
 class Trial {
 public:
+  /// \brief A trial with `config` and an empty map. \throws InvalidArgumentError if the
+  /// config is invalid.
   explicit Trial(const TrialConfig& config = {});
   ~Trial();
 
   /// \throws InvalidArgumentError if the config is invalid.
   void setConfig(const TrialConfig& config);
+  /// \brief The configuration of the next run().
   const TrialConfig& getConfig() const { return config_; }
+  /// \brief The plant, posed in the world frame: the sensor's scene and the ground
+  /// truth (not copied; it must not change during run()).
   void setPlant(std::shared_ptr<const Plant> plant);
   /// \brief The attention ROI of the NBV planner (also used to report the gain of the
   /// baselines' views). Empty: every voxel counts (plain volumetric NBV).
   void setAttentionRoi(const Roi& roi) { attention_ = roi; }
+  /// \brief The levels each view is scored at (e.g. whole plant, main stem, leaf nodes).
   void setEvaluationLevels(const std::vector<EvaluationLevel>& levels)
   {
     levels_ = levels;
@@ -194,6 +202,10 @@ public:
 
   /// \brief The map after run() (empty before).
   const OccupancyMap& getMap() const { return *map_; }
+  /// \brief The evaluator of the last run(): its ground truth, levels and background,
+  /// e.g. to classify the map's voxels by outcome. \throws InvalidArgumentError before
+  /// run().
+  const ReconstructionEvaluator& getEvaluator() const;
   /// \brief The plant's sector (axis at the plant's base) used by the last run().
   const CylindricalSector& getSector() const { return sector_; }
 
@@ -205,6 +217,7 @@ private:
   std::function<void(const TrialStep&)> callback_;
   std::function<void(const TrialFrame&)> frame_callback_;
   std::shared_ptr<OccupancyMap> map_;
+  std::shared_ptr<ReconstructionEvaluator> evaluator_;
   CylindricalSector sector_;
 };
 

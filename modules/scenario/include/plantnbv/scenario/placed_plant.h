@@ -30,6 +30,9 @@ struct PlantSource {
   bool simplified = false;           ///< half of the leaflets of every leaf removed
   std::string
       model; ///< or a mesh (.dae .obj .ply .stl .wrl) or scanned cloud (.pcd .ply)
+  /// Further mesh files of the same model (a plant split into several files, e.g. one
+  /// per part), merged with `model` into one mesh.
+  std::vector<std::string> model_parts;
   std::string labels; ///< part label rules of a mesh, e.g. "stem=Branch.*,leaflet=Leaf.*"
   std::string rois;   ///< the user's ROI file (world frame): the level "model_rois"
   bool keep_frame = false; ///< a model: keep the file's coordinates (no base, no yaw)
@@ -40,7 +43,7 @@ struct PlantSource {
 /// \brief A plant posed in the world frame with its ROIs.
 struct PlacedPlant {
   PlantSource source; ///< what it was made from
-  Plant plant;
+  Plant plant;        ///< mesh (or scan) and anatomy, posed in the world frame
   /// The plant's own ROIs, world frame: every kind for a generated plant (fruit only
   /// when it has fruit); whole_plant (the bounding box) for a model.
   std::map<RoiKind, Roi> rois;

@@ -64,15 +64,18 @@ void fitSectorToPlant(const PlacedPlant& placed, std::optional<double> sector_he
 /// file; what is unset keeps the file's value, or the built-in default.
 struct TrialOverrides {
   std::string config_file; ///< a trial config (loadTrialConfig); empty: the defaults
-  std::optional<std::string> planner; ///< nbv, predefined, random
-  std::optional<int> pattern;
-  std::optional<int> views;
-  std::optional<int> candidates; ///< per step, a multiple of the grid cells
-  std::optional<double> resolution_m;
-  std::optional<double> sector_height_m; ///< else fitSectorToPlant's rule
-  std::optional<std::uint64_t> seed;
-  std::optional<int> threads;
-  std::optional<double> depth_scale;
+  std::optional<std::string> planner;     ///< nbv, predefined, random
+  std::optional<int> pattern;             ///< the predefined planner's pattern, 1-4
+  std::optional<int> views;               ///< view budget, v0 included
+  std::optional<int> candidates;          ///< per step, a multiple of the grid cells
+  std::optional<double> resolution_m;     ///< map resolution = rho, metres
+  std::optional<double> sector_height_m;  ///< else fitSectorToPlant's rule
+  std::optional<std::uint64_t> seed;      ///< the trial's seed
+  std::optional<int> threads;             ///< 0: OpenMP's default
+  std::optional<double> depth_scale;      ///< TrialConfig::depth_scale
+  std::optional<CameraIntrinsics> camera; ///< the simulated sensor's
+  std::optional<bool> noise;              ///< the sensor's depth noise on or off
+  std::optional<bool> background;         ///< floor and support in the scene, or not
 };
 
 /// \brief The trial config of `placed`: the file, the overrides, the sector fitted to

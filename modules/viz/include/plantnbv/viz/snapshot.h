@@ -26,12 +26,13 @@ namespace viz {
 
 /// \brief An 8-bit RGB image, rows from the top, 3 bytes per pixel.
 struct RgbImage {
-  int width = 0;
-  int height = 0;
+  int width = 0;                 ///< pixels
+  int height = 0;                ///< pixels
   std::vector<std::uint8_t> rgb; ///< width * height * 3 bytes
 
   /// \brief The first of the 3 bytes of pixel (x, y), y counted from the top row.
   std::uint8_t* at(int x, int y) { return rgb.data() + 3 * (std::size_t(y) * width + x); }
+  /// \brief The first of the 3 bytes of pixel (x, y), read-only.
   const std::uint8_t* at(int x, int y) const
   {
     return rgb.data() + 3 * (std::size_t(y) * width + x);
@@ -45,9 +46,9 @@ void writePng(const RgbImage& image, const std::string& png_path);
 
 /// \brief A camera: where it is, the point it looks at, and which way is up in the image.
 struct CameraPose {
-  Eigen::Vector3d position{-1.0, 0.0, 0.0}; ///< metres, world frame
-  Eigen::Vector3d focal_point{0.0, 0.0, 0.0};
-  Eigen::Vector3d view_up{0.0, 0.0, 1.0}; ///< need not be orthogonal to the view axis
+  Eigen::Vector3d position{-1.0, 0.0, 0.0};   ///< metres, world frame
+  Eigen::Vector3d focal_point{0.0, 0.0, 0.0}; ///< the point looked at, world frame
+  Eigen::Vector3d view_up{0.0, 0.0, 1.0};     ///< need not be orthogonal to the view axis
 };
 
 /// \brief Builds a scene from our types and renders it offscreen to a PNG.
@@ -90,7 +91,8 @@ struct CameraPose {
 /// scene is centred in the picture (perspective makes the near side look bigger), so
 /// the focal point can differ from the centre by a few centimetres. Frustum corners and
 /// polyline points count as points (labels do not: they are moved inside the picture).
-/// A title gets a band of its own at the top. Config::camera replaces it.
+/// A title gets a band of its own at the top, a legend one at the bottom. Config::camera
+/// replaces it.
 ///
 /// Thread safety: not thread-safe; render from one thread at a time (Xlib, OpenGL).
 /// \code
@@ -111,6 +113,7 @@ struct CameraPose {
 /// \endcode
 class SceneSnapshot {
 public:
+  /// \brief The picture and its camera; defaults in each field.
   struct Config {
     int width = 1200;                 ///< image width in pixels, in [16, 8192]
     int height = 900;                 ///< image height in pixels, in [16, 8192]
@@ -128,7 +131,7 @@ public:
     /// Automatic camera: fraction of the image half-size left free around the scene's
     /// bounding box, in [0, 0.5); default 0.04.
     double auto_margin = 0.04;
-    /// Text in the top-left corner (UTF-8); empty (default) = none.
+    /// Text in the top-left corner (UTF-8; '\n' starts a line); empty (default) = none.
     std::string title;
     /// Height of the title's letters in pixels; 0 (default) = height / 22.
     int title_size_px = 0;
@@ -148,7 +151,9 @@ public:
   /// \throws InvalidArgumentError naming the first field of `config` out of range.
   explicit SceneSnapshot(const Config& config);
   ~SceneSnapshot();
+  /// \brief Moves the scene and the configuration (not copyable).
   SceneSnapshot(SceneSnapshot&&) noexcept;
+  /// \brief Moves the scene and the configuration.
   SceneSnapshot& operator=(SceneSnapshot&&) noexcept;
   SceneSnapshot(const SceneSnapshot&) = delete;
   SceneSnapshot& operator=(const SceneSnapshot&) = delete;
@@ -156,6 +161,7 @@ public:
   /// \brief Replaces the configuration (the scene stays). \throws InvalidArgumentError
   /// naming the first field out of range.
   void setConfig(const Config& config);
+  /// \brief The configuration of the next render().
   const Config& getConfig() const;
 
   /// \brief Adds a mesh coloured by part label (partLabelColor); a mesh without labels is
@@ -219,7 +225,16 @@ public:
   void addPolyline(const std::vector<Eigen::Vector3d>& points, const Rgb& color,
                    float line_width_px = 2.0f);
 
-  /// \brief Removes everything added.
+  /// \brief Adds an entry to the legend: a square of `color`, then `text` (UTF-8).
+  ///
+  /// The legend is a band along the bottom of the picture: the entries in the order
+  /// added, left to right, wrapping to further rows (letters 3/4 of
+  /// Config::label_size_px high, widths estimated from the letter count). The automatic camera leaves the band free.
+  /// A legend alone is not a scene: empty() stays true.
+  /// \throws InvalidArgumentError for an empty text or a colour outside [0, 1].
+  void addLegendEntry(const std::string& text, const Rgb& color);
+
+  /// \brief Removes everything added, the legend too.
   void clear();
   /// \brief True when nothing that can be drawn was added.
   bool empty() const;
@@ -248,6 +263,11 @@ private:
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };
+
+/// \brief Adds a legend entry for each part label that occurs in `labels` (a mesh's or a
+/// scan's, or a captured cloud's), in PartLabel order: the part's name in its colour
+/// (partLabelColor). Nothing when `labels` is empty.
+void addPartLegend(const std::vector<PartLabel>& labels, SceneSnapshot& snapshot);
 
 } // namespace viz
 } // namespace plantnbv
