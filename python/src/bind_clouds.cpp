@@ -213,9 +213,10 @@ void bindClouds(py::module_& m)
         }
         return pointsOut(out, !labels.is_none());
       },
-      "points"_a, "leaf_m"_a = 0.003, "centres"_a = false, "labels"_a = py::none(),
+      "points"_a, "leaf_m"_a = 0.003, "centres"_a = true, "labels"_a = py::none(),
       "One point per occupied voxel of a grid aligned with the world origin (OctoMap's "
-      "lattice): the centroid of its points, or with centres=True the voxel centre. With "
+      "lattice): the voxel centre, as trials and `plantnbv sample --voxel` make ground "
+      "truth, or with centres=False the centroid of its points (`--centroids`). With "
       "labels, returns (points, labels), each voxel taking its most frequent label.");
 
   m.def(

@@ -89,6 +89,10 @@ def test_filters_and_sampling():
     centres, voxel_labels = pn.voxel_grid(points, 0.005, centres=True, labels=labels)
     assert len(centres) == len(voxel_labels) < len(points)
     np.testing.assert_allclose(np.floor(centres / 0.005) + 0.5, centres / 0.005, atol=1e-3)
+    # Voxel centres by default, as ground truth everywhere; centroids on request.
+    np.testing.assert_array_equal(pn.voxel_grid(points, 0.005), centres)
+    centroids = pn.voxel_grid(points, 0.005, centres=False)
+    assert len(centroids) == len(centres) and not np.array_equal(centroids, centres)
     box = pn.Box([0, 0, 0.2], [0.1, 0.1, 0.1], name="b")
     roi = pn.Roi([box])
     inside = pn.crop_to_roi(points, roi)
