@@ -40,7 +40,11 @@ CampaignProgress LocalRunner::run(const std::vector<TrialSpec>& specs)
   std::condition_variable changed;
   std::deque<CampaignProgress> finished; // events for the calling thread
   std::size_t running = 0;
-  int active_workers = std::min<int>(workers_, static_cast<int>(queue.size()));
+  // Started from a constant: a worker that finishes before the next one starts lowers
+  // active_workers, which as the loop's bound would leave that one unstarted and the
+  // count above 0 for ever.
+  const int worker_count = std::min<int>(workers_, static_cast<int>(queue.size()));
+  int active_workers = worker_count;
   std::atomic<bool> aborted{false}; // the progress callback threw
   auto stopping = [this, &aborted] { return aborted || (stop_ && stop_->load()); };
 
@@ -89,7 +93,7 @@ CampaignProgress LocalRunner::run(const std::vector<TrialSpec>& specs)
   };
 
   std::vector<std::thread> threads;
-  for (int i = 0; i < active_workers; ++i)
+  for (int i = 0; i < worker_count; ++i)
     threads.emplace_back(work);
 
   // The callback runs here, never on the workers; if it throws, the workers finish their
