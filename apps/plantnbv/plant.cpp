@@ -5,7 +5,6 @@
 #include <fstream>
 #include <iomanip>
 #include <iostream>
-#include <optional>
 
 #include <CLI/CLI.hpp>
 #include <pcl/point_cloud.h>
@@ -110,9 +109,7 @@ void renderSnapshot(const PlacedPlant& placed, const std::string& png_path)
   for (std::size_t i = 0; i < levels.size(); ++i) {
     const viz::Rgb color = viz::distinctColor(i);
     snapshot.addRoi(levels[i].roi, color);
-    const std::optional<RoiKind> kind = roiKindFromName(levels[i].name);
-    snapshot.addLegendEntry(
-        std::string(kind ? roiKindTitle(*kind) : levels[i].name.c_str()) + " ROI", color);
+    snapshot.addLegendEntry(roiTitle(levels[i].name) + " ROI", color);
   }
   snapshot.render(png_path);
 }

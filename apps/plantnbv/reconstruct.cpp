@@ -207,12 +207,9 @@ void renderSnapshot(const PlacedPlant& placed, const TrialConfig& c,
   VoxelOutcomes outcomes;
   evaluator.classify(occupied, level, outcomes);
 
-  const std::string& scored = r.level_names[level];
-  const std::optional<RoiKind> scored_kind = roiKindFromName(scored);
-  const std::string scored_title = scored_kind ? roiKindTitle(*scored_kind) : scored;
+  const std::string scored_title = roiTitle(r.level_names[level]);
   const bool nbv = c.planner == PlannerKind::nbv;
-  const std::string roi_title =
-      attention.kind ? roiKindTitle(*attention.kind) : attention.file;
+  const std::string roi_title = roiTitle(attention.name());
   std::ostringstream title;
   title << placed.plant.name << ": " << plannerKindName(c.planner)
         << (nbv ? ", attention " + roi_title : std::string()) << "\n"

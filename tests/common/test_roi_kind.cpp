@@ -30,6 +30,11 @@ TEST(RoiKind, TitlesAndBoxScoring)
 {
   EXPECT_STREQ(plantnbv::roiKindTitle(RoiKind::leaf_nodes), "Leaf nodes");
   EXPECT_STREQ(plantnbv::roiKindTitle(RoiKind::fruit), "Fruit");
+  // Any spelling of a kind gives its title; any other name stays as it is.
+  EXPECT_EQ(plantnbv::roiTitle("leaf-nodes"), "Leaf nodes");
+  EXPECT_EQ(plantnbv::roiTitle("fruits"), "Fruit");
+  EXPECT_EQ(plantnbv::roiTitle("model_rois"), "model_rois");
+  EXPECT_EQ(plantnbv::roiTitle("nodes.yaml"), "nodes.yaml");
   EXPECT_FALSE(plantnbv::roiKindScoresBoxesApart(RoiKind::whole_plant));
   EXPECT_FALSE(plantnbv::roiKindScoresBoxesApart(RoiKind::main_stem));
   EXPECT_TRUE(plantnbv::roiKindScoresBoxesApart(RoiKind::leaf_nodes));

@@ -49,6 +49,12 @@ const char* roiKindTitle(RoiKind kind)
   return info(kind).title;
 }
 
+std::string roiTitle(const std::string& name)
+{
+  const std::optional<RoiKind> kind = roiKindFromName(name);
+  return kind ? roiKindTitle(*kind) : name;
+}
+
 bool roiKindScoresBoxesApart(RoiKind kind)
 {
   return info(kind).boxes_apart;

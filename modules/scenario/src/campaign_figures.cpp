@@ -27,12 +27,6 @@ void addOnce(std::vector<std::string>& list, const std::string& name)
     list.push_back(name);
 }
 
-std::string levelTitle(const std::string& level)
-{
-  const std::optional<RoiKind> kind = roiKindFromName(level);
-  return kind ? roiKindTitle(*kind) : level;
-}
-
 struct Metric {
   const char* file;  ///< file name prefix
   const char* title; ///< in the figure's title
@@ -196,7 +190,7 @@ std::vector<fs::path> writeCampaignFigures(const std::vector<CurveRow>& rows,
     figure.setSize(1200, 460);
     const std::vector<viz::ChartSeries> styles = plannerCurveStyles(planners);
     for (const std::string& level : levels) {
-      viz::ChartPanel p = panel(*m, levelTitle(level));
+      viz::ChartPanel p = panel(*m, roiTitle(level));
       for (std::size_t i = 0; i < planners.size(); ++i)
         p.series.push_back(curve(
             rows, *m,
@@ -245,7 +239,7 @@ std::vector<fs::path> writeCampaignFigures(const std::vector<CurveRow>& rows,
     figure.setSize(1200, 80 + 330 * static_cast<int>(study_planners.size()));
     for (const std::string& planner : study_planners)
       for (const std::string& level : levels) {
-        viz::ChartPanel p = panel(kF1, planner + ", " + levelTitle(level));
+        viz::ChartPanel p = panel(kF1, planner + ", " + roiTitle(level));
         viz::ChartSeries reference = curve(
             rows, kF1,
             [&](const CurveRow& r) {

@@ -37,6 +37,10 @@ std::optional<RoiKind> roiKindFromName(const std::string& name);
 /// \brief "Whole plant", "Main stem", "Leaf nodes", "Fruit": titles for figures.
 const char* roiKindTitle(RoiKind kind);
 
+/// \brief The title of an ROI or level named `name`: its kind's title for a kind in any
+/// spelling ("leaf-nodes": "Leaf nodes"), else the name itself (a file, model_rois).
+std::string roiTitle(const std::string& name);
+
 /// \brief True where the ROI is several small boxes scored one by one and averaged (leaf
 /// nodes, fruit: the paper averages its three leaf nodes), false where it is one box.
 bool roiKindScoresBoxesApart(RoiKind kind);
