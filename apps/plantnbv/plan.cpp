@@ -29,6 +29,7 @@
 #include "cli_checks.h"
 #include "commands.h"
 #include "map_file.h"
+#include "roi_source_options.h"
 
 namespace plantnbv {
 namespace app {
@@ -50,6 +51,7 @@ struct PlanOptions {
   std::string camera = "l515-640";
   std::optional<std::uint64_t> seed;
   std::optional<int> threads;
+  scenario::RoiSourceOverrides roi_source;
   bool json = false;
   bool pose_only = false;
   int top = 0;
@@ -168,7 +170,9 @@ void runPlan(const PlanOptions& o)
   std::optional<Pose> current;
   if (!o.current_pose.empty())
     current = parsePose(o.current_pose, "--current-pose");
-  const Roi roi = planRoi(o.roi, sector.axis_base);
+  o.roi_source.applyTo(config.roi_source, "--");
+  const Roi roi = config.roi_source.apply(planRoi(o.roi, sector.axis_base),
+                                          roiSourceSeed(config.seed));
 
   ActiveVisionSession session(sessionConfigOf(config));
   session.setCamera(camera);
@@ -220,6 +224,7 @@ void runPlan(const PlanOptions& o)
     nlohmann::json j;
     j["map"] = o.map;
     j["roi"] = o.roi;
+    j["roi_source"] = roiSourceKindName(config.roi_source.kind);
     j["roi_meets_map"] = meets;
     j["all_gains_zero"] = all_zero;
     j["best"] = viewJson(next.ranking.front());
@@ -312,10 +317,12 @@ void addPlanCommand(CLI::App& app)
                   "The candidates' camera: camera.yaml, l515, l515-640, l515-320 or "
                   "WxH:fx,fy,cx,cy")
       ->capture_default_str();
-  cmd->add_option("--seed", o->seed, "Seed of the candidates' draw (default 0)")
+  cmd->add_option("--seed", o->seed,
+                  "Seed of the candidates' draw and of a noisy ROI (default 0)")
       ->check(unsignedInteger());
   cmd->add_option("--threads", o->threads, "Threads (default: all cores)")
       ->transform(threadCount("--threads"));
+  addRoiSourceOptions(*cmd, o->roi_source, "--seed");
   cmd->add_flag("--json", o->json, "One JSON object: best, candidates, timings");
   cmd->add_flag("--pose-only", o->pose_only,
                 "Print only the best optical pose x,y,z,qx,qy,qz,qw (for scripts)")

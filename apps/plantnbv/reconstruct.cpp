@@ -31,6 +31,7 @@
 #include "commands.h"
 #include "frames_out.h"
 #include "plant_options.h"
+#include "roi_source_options.h"
 #include "sensor_options.h"
 
 namespace plantnbv {
@@ -120,6 +121,11 @@ nlohmann::json summaryJson(const ReconstructOptions& o, const PlacedPlant& place
       {"planner", plannerKindName(c.planner)},
       {"pattern", c.pattern},
       {"attention", attention.name()},
+      {"roi_source",
+       {{"type", roiSourceKindName(c.roi_source.kind)},
+        {"sigma", c.roi_source.sigma_m},
+        {"scale", c.roi_source.scale},
+        {"seed", roiSourceSeed(c.seed)}}},
       {"views", c.views},
       {"candidates", c.grid_rows * c.grid_cols * c.samples_per_cell},
       {"seed", c.seed},
@@ -171,6 +177,13 @@ nlohmann::json summaryJson(const ReconstructOptions& o, const PlacedPlant& place
     };
   }
   j["levels"] = levels;
+  // The boxes the planner attended to (the ROI source's output), beside the true ones.
+  nlohmann::json attended = nlohmann::json::array();
+  for (const Box& b : trial.getAttendedRoi().boxes())
+    attended.push_back({{"name", b.name},
+                        {"center", {b.center.x(), b.center.y(), b.center.z()}},
+                        {"size", {b.size.x(), b.size.y(), b.size.z()}}});
+  j["attended_roi"] = attended;
   double plan = 0, capture = 0, insert = 0, eval = 0;
   for (const TrialStep& s : r.steps) {
     plan += s.plan_ms;
@@ -237,7 +250,10 @@ void renderSnapshot(const PlacedPlant& placed, const TrialConfig& c,
       "missed ground truth (" + std::to_string(outcomes.missed.size()) + ")", missed);
   if (nbv && !attention_roi.empty()) {
     snapshot.addRoi(attention_roi, roi);
-    snapshot.addLegendEntry("attention ROI: " + roi_title, roi);
+    std::ostringstream source;
+    if (c.roi_source.kind == RoiSourceKind::noisy)
+      source << " (noisy, sigma " << c.roi_source.sigma_m * 1000.0 << " mm)";
+    snapshot.addLegendEntry("attention ROI: " + roi_title + source.str(), roi);
   }
   std::vector<Eigen::Vector3d> positions;
   for (const TrialStep& s : r.steps) {
@@ -349,8 +365,8 @@ void runReconstruct(const ReconstructOptions& o)
     std::cout << "; removed an earlier run's snapshot.png";
   std::cout << "\n";
   if (!o.snapshot.empty()) {
-    renderSnapshot(placed, config, attention, attention_roi, trial, result, occupied,
-                   o.snapshot);
+    renderSnapshot(placed, config, attention, trial.getAttendedRoi(), trial, result,
+                   occupied, o.snapshot);
     std::cout << "snapshot " << o.snapshot << "\n";
   }
 }
@@ -397,6 +413,7 @@ void addReconstructCommand(CLI::App& app)
                   "Depth units per metre the trial rounds to (default 0: none; 1000 with "
                   "--frames-out)");
   addSensorOptions(*cmd, o->sensor, "the config's, else l515-640", "--seed");
+  addRoiSourceOptions(*cmd, o->trial.roi, "--seed");
   cmd->add_option("--snapshot", o->snapshot,
                   "Also render a PNG: the scored voxels coloured by outcome against "
                   "ground truth, the attention ROI, the numbered views (needs X; "

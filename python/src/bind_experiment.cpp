@@ -36,6 +36,7 @@ using Path = fs::path;
 struct TrialRun {
   TrialResult result;
   py::object reconstruction;
+  Roi attended_roi; ///< Trial::getAttendedRoi
 };
 
 py::dict stepDict(const TrialStep& s, const std::vector<std::string>& levels)
@@ -146,6 +147,7 @@ TrialRun runTrial(const scenario::PlacedPlant& placed, const std::string& planne
       }
     });
     trial.run(run.result);
+    run.attended_roi = trial.getAttendedRoi();
     if (map_out)
       trial.getMap().write(map_out->string());
     trial.getMap().getOccupiedVoxelCentres(occupied);
@@ -252,6 +254,9 @@ void bindExperiment(py::module_& m)
           "level"_a, "tau"_a, "Views until F1 first reaches tau at the level, or None.")
       .def_readonly("reconstruction", &TrialRun::reconstruction,
                     "The occupied voxel centres after the last view, (N, 3) float32.")
+      .def_readonly("attended_roi", &TrialRun::attended_roi,
+                    "The ROI the planner attended to: the attention ROI after the ROI "
+                    "source (roi_source).")
       .def_property_readonly("stopped_early",
                              [](const TrialRun& r) { return r.result.stopped_early; })
       .def_property_readonly("setup_ms",
@@ -269,8 +274,9 @@ void bindExperiment(py::module_& m)
          std::optional<std::uint64_t> seed, std::optional<int> threads,
          std::optional<double> depth_scale, std::optional<CameraIntrinsics> camera,
          std::optional<bool> noise, std::optional<bool> background,
-         std::optional<Path> config, std::optional<Path> map_out,
-         const py::object& progress) {
+         std::optional<std::string> roi_source, std::optional<double> roi_sigma,
+         std::optional<double> roi_scale, std::optional<Path> config,
+         std::optional<Path> map_out, const py::object& progress) {
         scenario::TrialOverrides o;
         o.config_file = config ? config->string() : "";
         o.pattern = pattern;
@@ -284,6 +290,7 @@ void bindExperiment(py::module_& m)
         o.camera = camera;
         o.noise = noise;
         o.background = background;
+        o.roi = {roi_source, roi_sigma, roi_scale};
         return runTrial(placed, planner, attention, o, map_out, progress);
       },
       "plant"_a, py::kw_only(), "planner"_a = "nbv", "attention"_a = "whole_plant",
@@ -291,13 +298,16 @@ void bindExperiment(py::module_& m)
       "resolution_m"_a = py::none(), "sector_height_m"_a = py::none(),
       "seed"_a = py::none(), "threads"_a = py::none(), "depth_scale"_a = py::none(),
       "camera"_a = py::none(), "noise"_a = py::none(), "background"_a = py::none(),
+      "roi_source"_a = py::none(), "roi_sigma"_a = py::none(), "roi_scale"_a = py::none(),
       "config"_a = py::none(), "map_out"_a = py::none(), "progress"_a = py::none(),
       "One trial on a PlacedPlant, as `plantnbv reconstruct` runs it (the same seed "
       "gives "
       "the same steps): capture at v0, then plan, capture, integrate up to `views`, "
       "scored at every level after each view. `config` is a trial YAML (data/paper.yaml) "
       "that the other arguments override (`camera`, `noise`, `background`: the "
-      "simulated sensor, as reconstruct's --intrinsics, --noise and --no-background); "
+      "simulated sensor, as reconstruct's --intrinsics, --noise and --no-background; "
+      "`roi_source` 'oracle' or 'noisy', `roi_sigma` (metres), `roi_scale`: where the "
+      "attended ROI comes from, as --roi-source, --roi-sigma, --roi-scale); "
       "`progress(step)` is called after every view; "
       "`map_out` writes the final map (.ot or .bt).");
 

@@ -59,6 +59,25 @@ def test_the_sensor_options_are_reconstructs(placed, cli, tmp_path):
     assert not np.array_equal(plain["whole_plant_f1"], ours["whole_plant_f1"])
 
 
+def test_a_noisy_roi_source_is_reconstructs(placed, cli, tmp_path):
+    cli("reconstruct", "--plant", 3, "--views", 2, "--seed", 5, "--attention", "leaf_nodes",
+        "--roi-source", "noisy", "--roi-sigma", 0.02, "-o", tmp_path / "tool")
+    tool = steps_csv(tmp_path / "tool" / "steps.csv")
+    noisy = pn.run_trial(placed, attention="leaf_nodes", views=2, seed=5, roi_source="noisy",
+                         roi_sigma=0.02)
+    ours = noisy.columns()
+    for column, values in tool.items():
+        if not column.endswith("_ms"):
+            np.testing.assert_array_equal(ours[column], values, err_msg=column)
+    oracle = pn.run_trial(placed, attention="leaf_nodes", views=2, seed=5)
+    truth = [b.center for b in oracle.attended_roi.boxes]
+    moved = [b.center for b in noisy.attended_roi.boxes]
+    assert len(truth) == len(moved) > 0
+    assert all(not np.array_equal(t, m) for t, m in zip(truth, moved))
+    with pytest.raises(ValueError, match="roi_sigma 0.01: only the noisy ROI source"):
+        pn.run_trial(placed, views=2, roi_sigma=0.01)
+
+
 def test_a_progress_callback_that_raises_stops_the_trial(placed):
     def stop(step):
         raise RuntimeError("enough at view %d" % step["view"])

@@ -275,6 +275,18 @@ const std::vector<BadCall> kBadCalls = {
      "--intrinsics: "},
     {"reconstruct --plant 1 --config {d}/grid8.yaml --candidates 27 -o {d}/x", 1,
      "--candidates 27: expected a multiple of the 8 grid cells (8, 24, 40, ...)"},
+    {"reconstruct --plant 1 --roi-source detector -o {d}/x", 1,
+     "--roi-source: unknown ROI source 'detector' (expected oracle or noisy)"},
+    {"reconstruct --plant 1 --roi-sigma 0.01 -o {d}/x", 1,
+     "--roi-sigma 0.01: only the noisy ROI source uses it (--roi-source is oracle)"},
+    {"reconstruct --plant 1 --roi-source noisy --roi-sigma -0.01 -o {d}/x", 1,
+     "--roi-sigma -0.01: expected a finite value >= 0 (metres)"},
+    {"reconstruct --plant 1 --roi-source noisy --roi-scale 0 -o {d}/x", 1,
+     "--roi-scale 0: expected a finite value > 0"},
+    {"reconstruct --plant 1 --roi-source noisy --roi-sigma nan -o {d}/x", 1,
+     "--roi-sigma nan: expected a finite value >= 0 (metres)"},
+    {"plan --map {d}/m.ot --roi-scale 2", 1,
+     "--roi-scale 2: only the noisy ROI source uses it (--roi-source is oracle)"},
 };
 
 /// The bytes of a PNG (no filter, deflate's stored blocks): `depth` bits per sample,

@@ -17,7 +17,7 @@ namespace {
 
 CampaignPlanner nbv(const std::string& attention)
 {
-  return {"nbv-" + attention, PlannerKind::nbv, attention, {}};
+  return {"nbv-" + attention, PlannerKind::nbv, attention, {}, {}};
 }
 
 /// The paper's study: 10 plants x 12 yaws; main with 5 planners (predefined: 4 patterns),
@@ -39,8 +39,8 @@ CampaignDefinition paperLike()
   const std::vector<CampaignPlanner> nbvs{nbv("whole-plant"), nbv("main-stem"),
                                           nbv("leaf-nodes")};
   CampaignStudy main{"main", nbvs, {}, {}, {}};
-  main.planners.push_back({"predefined", PlannerKind::predefined, "", {1, 2, 3, 4}});
-  main.planners.push_back({"random", PlannerKind::random, "", {}});
+  main.planners.push_back({"predefined", PlannerKind::predefined, "", {1, 2, 3, 4}, {}});
+  main.planners.push_back({"random", PlannerKind::random, "", {}, {}});
   d.studies = {main,
                {"occlusion", nbvs, {true}, {}, {}},
                {"candidates", nbvs, {}, {9, 45}, {}},
@@ -131,7 +131,7 @@ TEST(Campaign, RepetitionsAndFractionalYawsHaveTheirOwnIds)
   d.yaws_deg = {-30, 12.5};
   d.repetitions = 2;
   d.studies.resize(1);
-  d.studies[0].planners = {{"random", PlannerKind::random, "", {}}};
+  d.studies[0].planners = {{"random", PlannerKind::random, "", {}, {}}};
   const std::vector<TrialSpec> specs = expandCampaign(d);
   std::vector<std::string> ids;
   for (const TrialSpec& t : specs)

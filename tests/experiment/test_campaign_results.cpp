@@ -60,8 +60,8 @@ CampaignDefinition smallCampaign()
   d.yaws_deg = {0, 180};
   d.views = 3;
   d.studies = {{"main",
-                {{"nbv-leaf-nodes", PlannerKind::nbv, "leaf-nodes", {}},
-                 {"predefined", PlannerKind::predefined, "", {1, 2}}},
+                {{"nbv-leaf-nodes", PlannerKind::nbv, "leaf-nodes", {}, {}},
+                 {"predefined", PlannerKind::predefined, "", {1, 2}, {}}},
                 {},
                 {},
                 {}}};

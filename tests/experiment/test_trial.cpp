@@ -166,6 +166,48 @@ TEST(Trial, LeafNodeAttentionReconstructsLeafNodesAtLeastAsFastAsRandom)
   EXPECT_GE(nbv, random);
 }
 
+TEST(Trial, ANoisyRoiSourceWithSigmaZeroIsTheOracleBitForBit)
+{
+  const auto plant = plantAt(2, 60.0);
+  TrialConfig config = smallConfig(PlannerKind::nbv, 4);
+  config.seed = 3;
+  Trial oracle(config);
+  oracle.setPlant(plant);
+  oracle.setAttentionRoi(leafNodeRoi(*plant));
+  oracle.setEvaluationLevels(levelsOf(*plant));
+  TrialResult truth;
+  oracle.run(truth);
+  ASSERT_EQ(oracle.getAttendedRoi().size(), leafNodeRoi(*plant).size());
+
+  config.roi_source.kind = RoiSourceKind::noisy;
+  expectSameSteps(runTrial(config, plant, leafNodeRoi(*plant)), truth);
+
+  // With an error, the planner attends to other boxes (drawn from the trial's seed, the
+  // ones RoiSource::apply gives with roiSourceSeed), and so plans other views; the
+  // evaluation levels stay the true ones.
+  config.roi_source.sigma_m = 0.03;
+  Trial noisy(config);
+  noisy.setPlant(plant);
+  noisy.setAttentionRoi(leafNodeRoi(*plant));
+  noisy.setEvaluationLevels(levelsOf(*plant));
+  TrialResult moved;
+  noisy.run(moved);
+  const Roi expected = config.roi_source.apply(leafNodeRoi(*plant), roiSourceSeed(3));
+  ASSERT_EQ(noisy.getAttendedRoi().size(), expected.size());
+  for (std::size_t i = 0; i < expected.size(); ++i) {
+    EXPECT_EQ(noisy.getAttendedRoi().boxes()[i].center, expected.boxes()[i].center);
+    EXPECT_NE(noisy.getAttendedRoi().boxes()[i].center,
+              leafNodeRoi(*plant).boxes()[i].center);
+  }
+  EXPECT_EQ(moved.steps[0].scores[1].reference_points,
+            truth.steps[0].scores[1].reference_points);
+  bool other_view = false;
+  for (std::size_t i = 1; i < moved.steps.size(); ++i)
+    other_view =
+        other_view || moved.steps[i].view.position != truth.steps[i].view.position;
+  EXPECT_TRUE(other_view);
+}
+
 TEST(Trial, RejectsABadConfigOrAMissingPlant)
 {
   TrialConfig c;
@@ -181,6 +223,15 @@ TEST(Trial, RejectsABadConfigOrAMissingPlant)
   c = TrialConfig();
   c.sector.radius_m = -1.0;
   EXPECT_THROW(Trial{c}, InvalidArgumentError);
+  c = TrialConfig();
+  c.roi_source.sigma_m = 0.01; // the oracle would ignore it
+  try {
+    Trial{c};
+    ADD_FAILURE() << "accepted";
+  } catch (const InvalidArgumentError& e) {
+    EXPECT_EQ(std::string(e.what()), "trial config: roi_sigma 0.01: only the noisy ROI "
+                                     "source uses it (roi_source is oracle)");
+  }
   Trial trial;
   TrialResult r;
   EXPECT_THROW(trial.run(r), InvalidArgumentError);

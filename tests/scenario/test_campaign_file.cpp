@@ -54,6 +54,56 @@ TEST(CampaignFile, TrialConfigsComeFromTheSpec)
   EXPECT_EQ(c.threads, 1);
 }
 
+TEST(CampaignFile, AnNbvPlannerCanHaveANoisyRoiSourceThatNamesItAndReachesItsTrials)
+{
+  const CampaignFile f = parseCampaignFile(
+      kHead +
+          "trial: {roi_source: noisy, roi_sigma: 0.002}\n"
+          "studies:\n  - name: main\n    planners:\n"
+          "      - {type: nbv, attention: leaf-nodes, roi_source: noisy, roi_sigma: "
+          "0.01}\n"
+          "      - {type: nbv, attention: leaf-nodes, roi_source: noisy, roi_scale: 2}\n"
+          "      - {type: nbv, attention: main-stem}\n"
+          "      - {type: nbv, attention: main-stem, roi_source: oracle, name: truth}\n"
+          "      - {type: random}\n",
+      "t.yaml");
+  const std::vector<TrialSpec> specs = expandCampaign(f.definition);
+  ASSERT_EQ(specs.size(), 5u);
+  EXPECT_EQ(specs[0].planner, "nbv-leaf-nodes-noisy10mm");
+  EXPECT_EQ(specs[1].planner, "nbv-leaf-nodes-noisy0mm-x2");
+  EXPECT_EQ(specs[2].planner, "nbv-main-stem");
+  const TrialConfig c0 = campaignTrialConfig(f, specs[0]);
+  EXPECT_EQ(c0.roi_source.kind, RoiSourceKind::noisy);
+  EXPECT_EQ(c0.roi_source.sigma_m, 0.01);
+  const TrialConfig c1 = campaignTrialConfig(f, specs[1]);
+  EXPECT_EQ(c1.roi_source.sigma_m, 0.0);
+  EXPECT_EQ(c1.roi_source.scale, 2.0);
+  // Without keys of its own, a planner keeps the trial section's source.
+  EXPECT_EQ(campaignTrialConfig(f, specs[2]).roi_source.sigma_m, 0.002);
+  EXPECT_EQ(campaignTrialConfig(f, specs[3]).roi_source.kind, RoiSourceKind::oracle);
+
+  const std::string head = kHead + "studies:\n  - name: main\n    planners: ";
+  EXPECT_EQ(errorOf([&] {
+              parseCampaignFile(head + "[{type: random, roi_source: noisy}]\n", "t.yaml");
+            }),
+            "'t.yaml' studies[0].planners[0].roi_source: only an NBV planner has an ROI "
+            "source");
+  EXPECT_EQ(errorOf([&] {
+              parseCampaignFile(
+                  head + "[{type: nbv, attention: leaf-nodes, roi_sigma: 0.01}]\n",
+                  "t.yaml");
+            }),
+            "'t.yaml' studies[0].planners[0]: roi_sigma 0.01: only the noisy ROI source "
+            "uses it (roi_source is oracle)");
+  EXPECT_EQ(errorOf([&] {
+              parseCampaignFile(head + "[{type: nbv, attention: leaf-nodes, roi_source: "
+                                       "noisy, roi_sigma: -1}]\n",
+                                "t.yaml");
+            }),
+            "'t.yaml' studies[0].planners[0]: roi_sigma -1: expected a finite value >= 0 "
+            "(metres)");
+}
+
 TEST(CampaignFile, ErrorsNameTheKeyPath)
 {
   const std::string studies =

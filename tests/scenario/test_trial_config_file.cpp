@@ -41,6 +41,13 @@ TEST_F(TrialConfigFile, OnlyTheKeysGivenChange)
   EXPECT_FALSE(c.scene.floor);
   EXPECT_TRUE(c.scene.support);
   EXPECT_EQ(c.map.max_range_m, TrialConfig().map.max_range_m);
+  TrialConfig noisy;
+  scenario::loadTrialConfig(
+      write("noisy.yaml", "roi_source: noisy\nroi_sigma: 0.01\nroi_scale: 2\n"), noisy);
+  EXPECT_EQ(noisy.roi_source.kind, RoiSourceKind::noisy);
+  EXPECT_EQ(noisy.roi_source.sigma_m, 0.01);
+  EXPECT_EQ(noisy.roi_source.scale, 2.0);
+  EXPECT_EQ(TrialConfig().roi_source.kind, RoiSourceKind::oracle);
   TrialConfig empty;
   scenario::loadTrialConfig(write("empty.yaml", ""), empty);
   EXPECT_EQ(empty.views, TrialConfig().views);
@@ -72,6 +79,14 @@ TEST_F(TrialConfigFile, ErrorsNameTheFileAndTheKeyPath)
   EXPECT_NE(errorOf([&] { scenario::loadTrialConfig(cam, c); }).find("camera: "),
             std::string::npos);
   EXPECT_THROW(scenario::loadTrialConfig((dir_ / "none.yaml").string(), c), IoError);
+  const std::string source = write("source.yaml", "roi_source: detector\n");
+  EXPECT_EQ(errorOf([&] { scenario::loadTrialConfig(source, c); }),
+            "'" + source +
+                "' roi_source: unknown ROI source 'detector' (expected oracle or noisy)");
+  const std::string sigma = write("sigma.yaml", "roi_sigma: 0.01\n");
+  EXPECT_EQ(errorOf([&] { scenario::loadTrialConfig(sigma, c); }),
+            "trial config: roi_sigma 0.01: only the noisy ROI source uses it (roi_source "
+            "is oracle)");
   const std::string range = write("range.yaml", "map: {prob_hit: 1.5}\n");
   EXPECT_THROW(scenario::loadTrialConfig(range, c), InvalidArgumentError);
 }

@@ -47,6 +47,61 @@ TEST(Attention, PlannerNamesKeepThePapersSpelling)
   EXPECT_EQ(nbvPlannerName(Attention::parse("whole_plant")), "nbv-whole-plant");
   EXPECT_EQ(nbvPlannerName(Attention::parse("fruits")), "nbv-fruit");
   EXPECT_EQ(nbvPlannerName(Attention::parse("boxes/my_rois.yaml")), "nbv-my_rois");
+  // A noisy ROI source is part of the name: its sigma in mm, a scale other than 1.
+  RoiSource noisy;
+  noisy.kind = RoiSourceKind::noisy;
+  EXPECT_EQ(nbvPlannerName(Attention::parse("leaf_nodes"), noisy),
+            "nbv-leaf-nodes-noisy0mm");
+  noisy.sigma_m = 0.005;
+  EXPECT_EQ(nbvPlannerName(Attention::parse("main-stem"), noisy),
+            "nbv-main-stem-noisy5mm");
+  noisy.sigma_m = 0.0025;
+  noisy.scale = 1.5;
+  EXPECT_EQ(nbvPlannerName(Attention::parse("leaf_nodes"), noisy),
+            "nbv-leaf-nodes-noisy2.5mm-x1.5");
+  EXPECT_EQ(nbvPlannerName(Attention::parse("leaf_nodes"), RoiSource()),
+            "nbv-leaf-nodes");
+}
+
+TEST(TrialSetup, RoiSourceOverridesNameTheOptionAndAnOracleDropsAConfigsNoise)
+{
+  RoiSource roi;
+  RoiSourceOverrides o;
+  o.source = "noisy";
+  o.sigma_m = 0.01;
+  o.applyTo(roi, "--");
+  EXPECT_EQ(roi.kind, RoiSourceKind::noisy);
+  EXPECT_EQ(roi.sigma_m, 0.01);
+  EXPECT_EQ(roi.scale, 1.0);
+  // --roi-source oracle over a config's noisy source: its sigma and scale go with it.
+  RoiSourceOverrides oracle;
+  oracle.source = "oracle";
+  oracle.applyTo(roi, "--");
+  EXPECT_EQ(roi.kind, RoiSourceKind::oracle);
+  EXPECT_EQ(roi.sigma_m, 0.0);
+  EXPECT_EQ(errorOf([] {
+              RoiSource r;
+              RoiSourceOverrides bad;
+              bad.source = "detections";
+              bad.applyTo(r, "--");
+            }),
+            "--roi-source: unknown ROI source 'detections' (expected oracle or noisy)");
+  EXPECT_EQ(
+      errorOf([] {
+        RoiSource r;
+        RoiSourceOverrides bad;
+        bad.sigma_m = 0.02;
+        bad.applyTo(r, "--");
+      }),
+      "--roi-sigma 0.02: only the noisy ROI source uses it (--roi-source is oracle)");
+  EXPECT_EQ(errorOf([] {
+              RoiSource r;
+              RoiSourceOverrides bad;
+              bad.source = "noisy";
+              bad.scale = -1.0;
+              bad.applyTo(r, "");
+            }),
+            "roi_scale -1: expected a finite value > 0");
 }
 
 TEST(TrialSetup, AGeneratedPlantHasEveryLevelInTheStudysOrder)

@@ -112,6 +112,15 @@ void CampaignDefinition::validate() const
             "'" + planner.name + "' is used by another planner of the study");
       if (planner.kind == PlannerKind::nbv && planner.attention.empty())
         bad(ppath + ".attention", "an NBV planner needs an attention ROI");
+      if (planner.roi_source) {
+        if (planner.kind != PlannerKind::nbv)
+          bad(ppath + ".roi_source", "only an NBV planner has an ROI source");
+        try {
+          planner.roi_source->validate();
+        } catch (const InvalidArgumentError& e) {
+          bad(ppath, e.what());
+        }
+      }
       if (planner.kind == PlannerKind::predefined) {
         if (planner.patterns.empty())
           bad(ppath + ".patterns", "expected at least one pattern");
@@ -229,8 +238,10 @@ std::vector<TrialSpec> expandCampaign(const CampaignDefinition& d)
                     t.variant = variant;
                     t.planner = planner.name;
                     t.kind = planner.kind;
-                    if (planner.kind == PlannerKind::nbv)
+                    if (planner.kind == PlannerKind::nbv) {
                       t.attention = planner.attention;
+                      t.roi_source = planner.roi_source;
+                    }
                     t.pattern = pattern;
                     t.plant_index = p;
                     t.plant = d.plants[p].name;

@@ -26,7 +26,8 @@ constexpr const char* kPlannerNames[] = {"nbv", "predefined", "random"};
 enum SeedStream : std::uint64_t {
   kPlannerStream = 1,
   kNoiseStream = 2,
-  kTruthStream = 3
+  kTruthStream = 3,
+  kRoiStream = 4
 };
 
 ViewPlanner::Ptr makePlanner(const TrialConfig& c)
@@ -71,6 +72,11 @@ void TrialConfig::validate() const
   scene.validate();
   map.validate();
   gain.validate();
+  try {
+    roi_source.validate();
+  } catch (const InvalidArgumentError& e) {
+    throw InvalidArgumentError(std::string("trial config: ") + e.what());
+  }
   auto bad = [](const std::string& field, const std::string& value,
                 const std::string& expected) {
     throw InvalidArgumentError("trial config: " + field + " = " + value + ", expected " +
@@ -123,6 +129,11 @@ double TrialConfig::estimatedMemoryBytes() const
 std::uint64_t groundTruthSeed(std::uint64_t trial_seed)
 {
   return deriveSeed(trial_seed, kTruthStream);
+}
+
+std::uint64_t roiSourceSeed(std::uint64_t trial_seed)
+{
+  return deriveSeed(trial_seed, kRoiStream);
 }
 
 ActiveVisionSession::Config sessionConfigOf(const TrialConfig& c)
@@ -214,7 +225,8 @@ void Trial::run(TrialResult& result)
   ActiveVisionSession session(session_config);
   session.setCamera(c.camera); // the candidates' frusta are the camera's
   session.setPlanner(makePlanner(c));
-  session.setRoi(attention_);
+  attended_ = c.roi_source.apply(attention_, roiSourceSeed(c.seed));
+  session.setRoi(attended_);
   map_ = session.getMap();
   result.setup_ms = setup_clock.ms();
   auto checkTimeLimit = [&](const char* after) {

@@ -111,6 +111,14 @@ CampaignPlanner readPlanner(const YamlReader& r, const YAML::Node& node,
   std::string type;
   bool has_attention = false, has_patterns = false;
   Attention attention;
+  RoiSource roi_source;
+  bool has_roi_source = false;
+  auto roiKey = [&](auto read) {
+    return [&, read](const YAML::Node& n, const std::string& k) {
+      read(n, k);
+      has_roi_source = true;
+    };
+  };
   r.forEach(node, p,
             {{"type",
               [&](const YAML::Node& n, const std::string& k) {
@@ -136,6 +144,20 @@ CampaignPlanner readPlanner(const YamlReader& r, const YAML::Node& node,
                 }
                 has_attention = true;
               }},
+             {"roi_source", roiKey([&](const YAML::Node& n, const std::string& k) {
+                const std::string name = r.read<std::string>(n, k, "oracle or noisy");
+                try {
+                  roi_source.kind = roiSourceKindFromName(name);
+                } catch (const InvalidArgumentError& e) {
+                  r.fail(k, e.what());
+                }
+              })},
+             {"roi_sigma", roiKey([&](const YAML::Node& n, const std::string& k) {
+                roi_source.sigma_m = r.read<double>(n, k, "a number (metres)");
+              })},
+             {"roi_scale", roiKey([&](const YAML::Node& n, const std::string& k) {
+                roi_source.scale = r.read<double>(n, k, "a number");
+              })},
              {"patterns", [&](const YAML::Node& n, const std::string& k) {
                 planner.patterns = r.readList<int>(n, k, "patterns 1-4");
                 for (std::size_t i = 0; i < planner.patterns.size(); ++i)
@@ -151,11 +173,21 @@ CampaignPlanner readPlanner(const YamlReader& r, const YAML::Node& node,
       r.fail(p + ".attention", "missing: an NBV planner needs an attention ROI");
     if (has_patterns)
       r.fail(p + ".patterns", "only a predefined planner has patterns");
+    if (has_roi_source) {
+      try {
+        roi_source.validate();
+      } catch (const InvalidArgumentError& e) {
+        r.fail(p, e.what());
+      }
+      planner.roi_source = roi_source;
+    }
     if (planner.name.empty())
-      planner.name = nbvPlannerName(attention);
+      planner.name = nbvPlannerName(attention, roi_source);
   } else {
     if (has_attention)
       r.fail(p + ".attention", "only an NBV planner has an attention ROI");
+    if (has_roi_source)
+      r.fail(p + ".roi_source", "only an NBV planner has an ROI source");
     if (planner.kind == PlannerKind::random && has_patterns)
       r.fail(p + ".patterns", "only a predefined planner has patterns");
     if (planner.kind == PlannerKind::predefined && !has_patterns)
@@ -234,6 +266,8 @@ TrialConfig campaignTrialConfig(const CampaignFile& f, const TrialSpec& t)
   c.planner = t.kind;
   if (t.kind == PlannerKind::predefined)
     c.pattern = t.pattern;
+  if (t.roi_source)
+    c.roi_source = *t.roi_source;
   c.views = t.views;
   setCandidateCount(t.candidates, "candidates", c);
   c.map.resolution_m = t.resolution_m;

@@ -30,13 +30,24 @@ std::string Attention::name() const
   return kind ? roiKindName(*kind) : file;
 }
 
-std::string nbvPlannerName(const Attention& attention)
+std::string nbvPlannerName(const Attention& attention, const RoiSource& source)
 {
-  if (!attention.kind)
-    return "nbv-" + std::filesystem::path(attention.file).stem().string();
-  std::string name = roiKindName(*attention.kind);
-  std::replace(name.begin(), name.end(), '_', '-');
-  return "nbv-" + name;
+  std::string name;
+  if (!attention.kind) {
+    name = "nbv-" + std::filesystem::path(attention.file).stem().string();
+  } else {
+    std::string kind = roiKindName(*attention.kind);
+    std::replace(kind.begin(), kind.end(), '_', '-');
+    name = "nbv-" + kind;
+  }
+  if (source.kind == RoiSourceKind::noisy) {
+    std::ostringstream s;
+    s << "-noisy" << std::setprecision(6) << source.sigma_m * 1000.0 << "mm";
+    if (source.scale != 1.0)
+      s << "-x" << std::setprecision(6) << source.scale;
+    name += s.str();
+  }
+  return name;
 }
 
 Roi attentionRoi(const PlacedPlant& placed, const Attention& attention)
@@ -97,6 +108,26 @@ void fitSectorToPlant(const PlacedPlant& placed, std::optional<double> sector_he
       std::max(0.05, double(hi.z()) - placed.plant.base_position.z());
 }
 
+void RoiSourceOverrides::applyTo(RoiSource& roi, const std::string& option_prefix) const
+{
+  if (source) {
+    try {
+      roi.kind = roiSourceKindFromName(*source);
+    } catch (const InvalidArgumentError& e) {
+      throw InvalidArgumentError(
+          (option_prefix.empty() ? "roi_source: " : option_prefix + "roi-source: ") +
+          e.what());
+    }
+  }
+  if (source && roi.kind == RoiSourceKind::oracle && !sigma_m && !scale)
+    roi = RoiSource(); // a config's noisy parameters mean nothing to the oracle
+  if (sigma_m)
+    roi.sigma_m = *sigma_m;
+  if (scale)
+    roi.scale = *scale;
+  roi.validate(option_prefix);
+}
+
 TrialConfig makeTrialConfig(const TrialOverrides& o, const PlacedPlant& placed,
                             const std::string& option_prefix)
 {
@@ -131,6 +162,7 @@ TrialConfig makeTrialConfig(const TrialOverrides& o, const PlacedPlant& placed,
     c.noise.enabled = *o.noise;
   if (o.background)
     c.scene.floor = c.scene.support = *o.background;
+  o.roi.applyTo(c.roi_source, option_prefix);
   fitSectorToPlant(placed, o.sector_height_m, c);
   c.validate();
   return c;

@@ -33,6 +33,8 @@ struct CampaignPlanner {
   PlannerKind kind = PlannerKind::nbv; ///< nbv, predefined or random
   std::string attention; ///< nbv: whole-plant, main-stem, leaf-nodes, fruit or a ROI file
   std::vector<int> patterns; ///< predefined: 1-4 each
+  /// nbv: where its ROI comes from; unset: the trial section's (oracle by default).
+  std::optional<RoiSource> roi_source;
 };
 
 /// \brief A study: planners run on every plant and yaw, over the variants its lists
@@ -78,6 +80,7 @@ struct TrialSpec {
   std::string planner; ///< the planner's name (patterns of one predefined share it)
   PlannerKind kind = PlannerKind::nbv; ///< nbv, predefined or random
   std::string attention;               ///< nbv only
+  std::optional<RoiSource> roi_source; ///< nbv only; unset: the trial section's
   int pattern = 0;                     ///< predefined only, 1-4
   std::size_t plant_index = 0;         ///< into CampaignDefinition::plants
   std::string plant;                   ///< its name

@@ -24,6 +24,7 @@
 #include <plantnbv/plant/plant.h>
 #include <plantnbv/sensor/noise_model.h>
 #include <plantnbv/session/active_vision_session.h>
+#include <plantnbv/session/roi_source.h>
 
 namespace plantnbv {
 
@@ -63,6 +64,9 @@ struct TrialConfig {
 
   PlannerKind planner = PlannerKind::nbv; ///< which planner chooses the views
   int pattern = 1;                        ///< predefined planner's pattern, 1-4
+  /// What the planner attends to, from the attention ROI it is given (the plant's true
+  /// boxes in a trial): oracle (the paper's) or noisy, seeded from `seed`.
+  RoiSource roi_source;
   /// The cylindrical sector; its axis_base is replaced by the plant's base, so that the
   /// sector moves with the plant.
   CylindricalSector sector;
@@ -101,6 +105,10 @@ struct TrialConfig {
 /// `trial_seed`: `plantnbv sample --seed` or `eval --seed` with it draws the trial's
 /// surface samples (docs/trials.md, "Ground truth").
 std::uint64_t groundTruthSeed(std::uint64_t trial_seed);
+
+/// \brief The seed of a trial's ROI source (RoiSource::apply) for the trial seed
+/// `trial_seed`; `plantnbv plan --seed S` draws a noisy ROI from roiSourceSeed(S).
+std::uint64_t roiSourceSeed(std::uint64_t trial_seed);
 
 /// \brief The session part of a trial config: map, sector, grid, gain, seed, threads
 /// (the sector's axis as in the config; a Trial puts it at the plant's base).
@@ -174,8 +182,12 @@ public:
   /// truth (not copied; it must not change during run()).
   void setPlant(std::shared_ptr<const Plant> plant);
   /// \brief The attention ROI of the NBV planner (also used to report the gain of the
-  /// baselines' views). Empty: every voxel counts (plain volumetric NBV).
+  /// baselines' views), before TrialConfig::roi_source. Empty: every voxel counts (plain
+  /// volumetric NBV).
   void setAttentionRoi(const Roi& roi) { attention_ = roi; }
+  /// \brief The ROI the planner attended to in the last run(): the attention ROI after
+  /// TrialConfig::roi_source (empty before run()).
+  const Roi& getAttendedRoi() const { return attended_; }
   /// \brief The levels each view is scored at (e.g. whole plant, main stem, leaf nodes).
   void setEvaluationLevels(const std::vector<EvaluationLevel>& levels)
   {
@@ -213,6 +225,7 @@ private:
   TrialConfig config_;
   std::shared_ptr<const Plant> plant_;
   Roi attention_;
+  Roi attended_;
   std::vector<EvaluationLevel> levels_;
   std::function<void(const TrialStep&)> callback_;
   std::function<void(const TrialFrame&)> frame_callback_;

@@ -34,8 +34,10 @@ struct Attention {
 };
 
 /// \brief The planner name campaigns give an NBV planner: "nbv-leaf-nodes" for a kind
-/// (the paper's planner names), "nbv-<file stem>" for an ROI file.
-std::string nbvPlannerName(const Attention& attention);
+/// (the paper's planner names), "nbv-<file stem>" for an ROI file; with a noisy ROI
+/// source, its sigma in millimetres and a scale other than 1 follow:
+/// "nbv-leaf-nodes-noisy10mm", "nbv-leaf-nodes-noisy0mm-x1.5".
+std::string nbvPlannerName(const Attention& attention, const RoiSource& source = {});
 
 /// \brief The attention ROI on the placed plant. \throws InvalidArgumentError if the
 /// plant has no ROI of that kind; the io errors of an ROI file.
@@ -60,6 +62,19 @@ void setCandidateCount(int candidates, const std::string& what, TrialConfig& con
 void fitSectorToPlant(const PlacedPlant& placed, std::optional<double> sector_height_m,
                       TrialConfig& config);
 
+/// \brief What `--roi-source`, `--roi-sigma` and `--roi-scale` (reconstruct, plan) and
+/// Python's roi_source, roi_sigma, roi_scale set over a config's RoiSource.
+struct RoiSourceOverrides {
+  std::optional<std::string> source; ///< oracle, noisy (RoiSourceKind's names)
+  std::optional<double> sigma_m;     ///< RoiSource::sigma_m
+  std::optional<double> scale;       ///< RoiSource::scale
+
+  /// \brief Sets what is given over `roi` and validates it. Messages name the overrides
+  /// as `option_prefix` + "roi-source" etc. (or the config keys without a prefix).
+  /// \throws InvalidArgumentError as roiSourceKindFromName and RoiSource::validate.
+  void applyTo(RoiSource& roi, const std::string& option_prefix) const;
+};
+
 /// \brief What `plantnbv reconstruct` and Python's run_trial set over a trial config
 /// file; what is unset keeps the file's value, or the built-in default.
 struct TrialOverrides {
@@ -76,13 +91,15 @@ struct TrialOverrides {
   std::optional<CameraIntrinsics> camera; ///< the simulated sensor's
   std::optional<bool> noise;              ///< the sensor's depth noise on or off
   std::optional<bool> background;         ///< floor and support in the scene, or not
+  RoiSourceOverrides roi;                 ///< where the attention ROI comes from
 };
 
 /// \brief The trial config of `placed`: the file, the overrides, the sector fitted to
 /// the plant, validated. Messages name an override as `option_prefix` + its name
-/// ("--" for the command line: "--candidates").
+/// ("--" for the command line: "--candidates", "--roi-sigma").
 /// \throws InvalidArgumentError for a pattern with a planner other than predefined (it
-/// would be ignored); as loadTrialConfig, setCandidateCount and TrialConfig::validate.
+/// would be ignored); as loadTrialConfig, setCandidateCount, RoiSource::validate and
+/// TrialConfig::validate.
 TrialConfig makeTrialConfig(const TrialOverrides& overrides, const PlacedPlant& placed,
                             const std::string& option_prefix = "");
 

@@ -1,0 +1,48 @@
+#pragma once
+/// \file roi_source.h
+/// \brief Where the planner's attention ROI comes from (the paper, section 5.3: on a
+/// robot nobody knows the true boxes). `oracle` attends to the boxes it is given (a
+/// plant's true ROIs in a trial, an ROI file on a robot); `noisy` displaces each of them
+/// by a seeded Gaussian error, to measure what an ROI misplaced by a detector costs.
+
+#include <cstdint>
+#include <string>
+
+#include <plantnbv/common/box.h>
+
+namespace plantnbv {
+
+/// \brief The kinds of ROI source.
+enum class RoiSourceKind {
+  oracle, ///< the given boxes as they are (the paper's study)
+  noisy,  ///< the given boxes, each moved by N(0, sigma^2) per axis and scaled
+};
+/// \brief "oracle" or "noisy" (the names configs, campaigns and the CLI use).
+const char* roiSourceKindName(RoiSourceKind kind);
+/// \throws InvalidArgumentError naming the string and the accepted names.
+RoiSourceKind roiSourceKindFromName(const std::string& name);
+
+/// \brief An ROI source and its parameters (trial configs: `roi_source`, `roi_sigma`,
+/// `roi_scale`; docs/trials.md).
+struct RoiSource {
+  RoiSourceKind kind = RoiSourceKind::oracle; ///< oracle (the default) or noisy
+  /// noisy: the standard deviation of each box centre's error along x, y and z (metres).
+  double sigma_m = 0.0;
+  /// noisy: the factor on every side of every box (1: the given size).
+  double scale = 1.0;
+
+  /// \throws InvalidArgumentError for a negative or non-finite sigma, a scale that is
+  /// not finite and positive, or a sigma or scale other than 0 and 1 with the oracle
+  /// (which would ignore them). The message names the config keys (`roi_sigma`), or with
+  /// an `option_prefix` the options ("--" gives `--roi-sigma`).
+  void validate(const std::string& option_prefix = "") const;
+
+  /// \brief The ROI the planner attends to, from the `given` boxes. oracle: `given`
+  /// itself. noisy: box i's centre moved by sigma_m times three standard normal draws
+  /// (x, y, z, box after box, from Rng(seed)), its sides times `scale`, its name kept.
+  /// sigma_m 0 and scale 1 give `given` exactly. \throws InvalidArgumentError as
+  /// validate().
+  Roi apply(const Roi& given, std::uint64_t seed) const;
+};
+
+} // namespace plantnbv
