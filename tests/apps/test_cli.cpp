@@ -458,6 +458,58 @@ TEST_F(CliTest, ReconstructTakesTheSensorOptionsOfCapture)
   EXPECT_EQ(plain["config"]["background"], true);
 }
 
+TEST_F(CliTest, ReconstructAttendsToANoisyRoiAndSaysWhichBoxes)
+{
+  write("small.yaml", kSmallTrial);
+  const std::string trial =
+      "reconstruct --plant 0 --views 3 --attention leaf_nodes --config " +
+      path("small.yaml");
+  ASSERT_EQ(run(trial + " -o " + path("oracle")).code, 0);
+  const ToolRun zero = run(trial + " --roi-source noisy -o " + path("zero"));
+  ASSERT_EQ(zero.code, 0) << zero.err;
+  const ToolRun moved = run(
+      trial + " --roi-source noisy --roi-sigma 0.02 --roi-scale 1.5 -o " + path("moved"));
+  ASSERT_EQ(moved.code, 0) << moved.err;
+
+  const auto oracle = nlohmann::json::parse(slurp(path("oracle/summary.json")));
+  const auto noisy = nlohmann::json::parse(slurp(path("moved/summary.json")));
+  EXPECT_EQ(oracle["config"]["roi_source"]["type"], "oracle");
+  EXPECT_EQ(noisy["config"]["roi_source"]["type"], "noisy");
+  EXPECT_EQ(noisy["config"]["roi_source"]["sigma"], 0.02);
+  EXPECT_EQ(noisy["config"]["roi_source"]["scale"], 1.5);
+  const auto& truth = oracle["attended_roi"];
+  const auto& attended = noisy["attended_roi"];
+  ASSERT_GT(truth.size(), 0u);
+  ASSERT_EQ(attended.size(), truth.size());
+  for (std::size_t i = 0; i < truth.size(); ++i) {
+    EXPECT_EQ(attended[i]["name"], truth[i]["name"]);
+    EXPECT_NE(attended[i]["center"], truth[i]["center"]);
+    for (int axis = 0; axis < 3; ++axis)
+      EXPECT_DOUBLE_EQ(attended[i]["size"][axis].get<double>(),
+                       1.5 * truth[i]["size"][axis].get<double>());
+  }
+  // Sigma 0 is the oracle, step for step (steps.csv's timing columns aside).
+  auto withoutTimings = [](const std::string& csv) {
+    std::istringstream in(csv);
+    std::string line, out;
+    while (std::getline(in, line)) {
+      std::vector<std::string> cells;
+      std::stringstream cell_stream(line);
+      for (std::string cell; std::getline(cell_stream, cell, ',');)
+        cells.push_back(cell);
+      for (std::size_t c = 0; c < cells.size(); ++c)
+        if (c < 10 || c > 13) // plan_ms, capture_ms, insert_ms, eval_ms
+          out += cells[c] + ",";
+      out += "\n";
+    }
+    return out;
+  };
+  EXPECT_EQ(withoutTimings(slurp(path("zero/steps.csv"))),
+            withoutTimings(slurp(path("oracle/steps.csv"))));
+  EXPECT_EQ(nlohmann::json::parse(slurp(path("zero/summary.json")))["attended_roi"],
+            truth);
+}
+
 namespace {
 
 /// A tiny campaign: one generated plant, three yaws, NBV, two pre-defined patterns and
@@ -679,6 +731,8 @@ TEST_F(CliTest, CampaignKilledRunResumesWithEveryTrialDoneOnce)
   // The report of the resumed run: one curve row per planner, level and view.
   const ToolRun report = run("campaign report " + path("run") + " -o " + path("report"));
   ASSERT_EQ(report.code, 0) << report.err;
+  EXPECT_EQ(report.out.find("roi_error"), std::string::npos)
+      << report.out; // no noisy ROI
   const auto rows = readCsv(slurp(path("report/curves.csv")));
   ASSERT_EQ(rows.size(), 1u + 3u * 2u * 3u);
   EXPECT_EQ(rows[0][5], "f1_mean");
@@ -711,6 +765,37 @@ TEST_F(CliTest, CampaignKilledRunResumesWithEveryTrialDoneOnce)
     const auto byte = [&](int i) { return static_cast<unsigned char>(bytes[i]); };
     EXPECT_EQ((byte(18) << 8) | byte(19), 1200) << png;
   }
+}
+
+TEST_F(CliTest, ACampaignOfNoisyRoisReportsF1AgainstTheRoiError)
+{
+  write("noisy.yaml", "name: noisy\nseed: 3\nplants: [{seed: 0}]\nyaws_deg: [0]\n"
+                      "views: 3\nlevels: [whole_plant, leaf_nodes]\ntrial:\n"
+                      "  camera: 160x120:114.25,114.25,79.5,59.5\n"
+                      "  gain: {rays_x: 32, rays_y: 24}\n"
+                      "studies:\n  - name: main\n    planners:\n"
+                      "      - {type: nbv, attention: leaf-nodes, roi_source: noisy}\n"
+                      "      - {type: nbv, attention: leaf-nodes, roi_source: noisy, "
+                      "roi_sigma: 0.02}\n"
+                      "      - {type: random}\n");
+  const ToolRun r = run("campaign run " + path("noisy.yaml") + " -o " + path("run"));
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto trials = trialFiles(path("run"));
+  EXPECT_EQ(trials.count("main+nbv-leaf-nodes-noisy20mm+plant00+yaw000+rep0.json"), 1u);
+  const ToolRun report = run("campaign report " + path("run") + " -o " + path("report"));
+  ASSERT_EQ(report.code, 0) << report.err;
+  EXPECT_NE(report.out.find("roi_error_main.png"), std::string::npos) << report.out;
+  const std::string bytes = slurp(path("report/roi_error_main.png"));
+  ASSERT_GT(bytes.size(), 24u);
+  EXPECT_EQ(bytes.substr(1, 3), "PNG");
+  // The gains over random, per sigma, in summary.md.
+  const std::string summary = slurp(path("report/summary.md"));
+  EXPECT_NE(summary.find("| nbv-leaf-nodes-noisy0mm | random |"), std::string::npos)
+      << summary;
+  EXPECT_NE(summary.find("| nbv-leaf-nodes-noisy20mm | random |"), std::string::npos)
+      << summary;
+  // Without two sigmas of one ROI there is no such figure.
+  ASSERT_EQ(run("campaign report " + path("run") + " -o " + path("report")).code, 0);
 }
 
 TEST_F(CliTest, CampaignStatusGivesTheEtaFromTheDoneTrialsTimes)
@@ -1039,6 +1124,30 @@ TEST_F(RealRobotCliTest, ReconstructFramesReplayToTheTrialsMapBitForBit)
   EXPECT_GT(trial.size(), 1000u);
   EXPECT_EQ(replayed.size(), trial.size());
   EXPECT_TRUE(replayed == trial) << "the replayed map differs from the trial's";
+}
+
+TEST_F(RealRobotCliTest, PlanAttendsToANoisyRoiDrawnFromItsSeed)
+{
+  capture("F");
+  integrate("F", "m.ot");
+  const std::string args = "--map " + path("m.ot") + " --roi main_stem --seed 4";
+  const nlohmann::json oracle = planJson(args);
+  const nlohmann::json zero = planJson(args + " --roi-source noisy");
+  const nlohmann::json moved = planJson(args + " --roi-source noisy --roi-sigma 0.05");
+  EXPECT_EQ(oracle["roi_source"], "oracle");
+  EXPECT_EQ(moved["roi_source"], "noisy");
+  EXPECT_EQ(zero["candidates"], oracle["candidates"]);
+  ASSERT_EQ(moved["candidates"].size(), oracle["candidates"].size());
+  std::map<std::size_t, double> gains;
+  for (const auto& c : oracle["candidates"])
+    gains[c["index"].get<std::size_t>()] = c["gain"].get<double>();
+  bool other_gain = false;
+  for (const auto& c : moved["candidates"])
+    other_gain =
+        other_gain || c["gain"].get<double>() != gains[c["index"].get<std::size_t>()];
+  EXPECT_TRUE(other_gain);
+  EXPECT_EQ(planJson(args + " --roi-source noisy --roi-sigma 0.05")["candidates"],
+            moved["candidates"]); // seeded
 }
 
 TEST_F(RealRobotCliTest, PlanRanksTheCandidatesAsJsonAndPrintsThePoseAlone)

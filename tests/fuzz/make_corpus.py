@@ -347,7 +347,7 @@ depth_scale: 1000
 
 def campaign():
     t = "campaign_yaml"
-    for name in ["quick.yaml", "paper.yaml"]:
+    for name in ["quick.yaml", "paper.yaml", "roi_error.yaml"]:
         put(t, name, (ROOT / "data" / "campaigns" / name).read_bytes())
     put(t, "models.yaml", """name: models
 seed: 7

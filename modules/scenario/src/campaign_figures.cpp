@@ -2,14 +2,17 @@
 #include <cmath>
 #include <functional>
 #include <iterator>
+#include <limits>
 #include <map>
 #include <optional>
+#include <sstream>
 
 #include <plantnbv/common/error.h>
 #include <plantnbv/common/roi_kind.h>
 #include <plantnbv/experiment/result_store.h>
 #include <plantnbv/scenario/campaign_figures.h>
 #include <plantnbv/scenario/campaign_file.h>
+#include <plantnbv/scenario/trial_setup.h>
 #include <plantnbv/viz/line_chart.h>
 
 namespace plantnbv {
@@ -160,10 +163,120 @@ std::vector<viz::ChartSeries> plannerCurveStyles(const std::vector<std::string>&
   return styles;
 }
 
+/// The F1 after this many views is what roi_error_<study>.png shows (the view count
+/// of the report's gain table: the paper's measure of what attention gains).
+constexpr int kRoiErrorViews = 3;
+
+/// The mean F1 (and its CI) after kRoiErrorViews of a study's planner at a level; false
+/// when there is no such row.
+bool f1AfterFewViews(const std::vector<CurveRow>& rows, const std::string& study,
+                     const std::string& planner, const std::string& level,
+                     SampleSummary& out)
+{
+  for (const CurveRow& r : rows)
+    if (r.study == study && r.variant.empty() && r.planner == planner &&
+        r.level == level && r.view == kRoiErrorViews) {
+      out = r.f1;
+      return true;
+    }
+  return false;
+}
+
+/// roi_error_<study>.png of writeCampaignFigures, or nothing when the study has no
+/// noisy planners of two sigmas on one attention ROI and scale.
+std::optional<fs::path> writeRoiErrorFigure(const std::vector<CurveRow>& rows,
+                                            const CampaignStudy& study,
+                                            const std::vector<std::string>& levels,
+                                            const fs::path& out_dir)
+{
+  struct Curve {
+    std::string attention; ///< the planner name of its oracle: "nbv-leaf-nodes"
+    double scale = 1.0;
+    std::vector<std::pair<double, std::string>> sigma_planner; ///< by sigma
+  };
+  std::vector<Curve> curves;
+  std::vector<std::string> flat; // the study's other planners
+  for (const CampaignPlanner& p : study.planners) {
+    if (p.kind != PlannerKind::nbv || !p.roi_source ||
+        p.roi_source->kind != RoiSourceKind::noisy) {
+      addOnce(flat, p.name);
+      continue;
+    }
+    const std::string attention = nbvPlannerName(Attention::parse(p.attention));
+    auto it = std::find_if(curves.begin(), curves.end(), [&](const Curve& c) {
+      return c.attention == attention && c.scale == p.roi_source->scale;
+    });
+    if (it == curves.end())
+      it = curves.insert(curves.end(), Curve{attention, p.roi_source->scale, {}});
+    it->sigma_planner.emplace_back(p.roi_source->sigma_m, p.name);
+  }
+  curves.erase(std::remove_if(curves.begin(), curves.end(),
+                              [](const Curve& c) { return c.sigma_planner.size() < 2; }),
+               curves.end());
+  if (curves.empty())
+    return std::nullopt;
+  double sigma_min = std::numeric_limits<double>::infinity(), sigma_max = -sigma_min;
+  std::vector<std::string> names;
+  for (Curve& c : curves) {
+    std::sort(c.sigma_planner.begin(), c.sigma_planner.end());
+    sigma_min = std::min(sigma_min, c.sigma_planner.front().first);
+    sigma_max = std::max(sigma_max, c.sigma_planner.back().first);
+    names.push_back(c.attention);
+  }
+  names.insert(names.end(), flat.begin(), flat.end());
+  std::vector<viz::ChartSeries> styles = plannerCurveStyles(names);
+  for (std::size_t i = 0; i < curves.size(); ++i)
+    if (curves[i].scale != 1.0) {
+      std::ostringstream name;
+      name << curves[i].attention << ", boxes x" << curves[i].scale;
+      styles[i].name = name.str();
+    }
+
+  viz::LineChartFigure figure;
+  figure.setTitle("F1 after " + std::to_string(kRoiErrorViews) +
+                  " views vs the ROI's error, study '" + study.name +
+                  "' (mean and 95% confidence interval; flat: planners without it)");
+  figure.setSize(1200, 460);
+  for (const std::string& level : levels) {
+    viz::ChartPanel p = panel(kF1, roiTitle(level));
+    p.x_label = "ROI error, sigma per axis (cm)";
+    p.integer_x = false;
+    p.fixed_y = false; // the differences are a few points of F1: the data's range
+    for (std::size_t i = 0; i < names.size(); ++i) {
+      viz::ChartSeries s = styles[i];
+      SampleSummary f1;
+      auto add = [&](double sigma_m) {
+        s.x.push_back(sigma_m * 100.0);
+        s.y.push_back(f1.mean);
+        s.band_low.push_back(f1.ci_low);
+        s.band_high.push_back(f1.ci_high);
+      };
+      if (i < curves.size()) {
+        for (const auto& [sigma, planner] : curves[i].sigma_planner)
+          if (f1AfterFewViews(rows, study.name, planner, level, f1))
+            add(sigma);
+      } else if (f1AfterFewViews(rows, study.name, names[i], level, f1)) {
+        add(sigma_min);
+        add(sigma_max);
+        s.marker = Marker::none;
+        s.band_low.clear(); // flat lines: their bands are in f1_<study>.png
+        s.band_high.clear();
+      }
+      if (!s.x.empty())
+        p.series.push_back(s);
+    }
+    figure.addPanel(p);
+  }
+  const fs::path png = out_dir / ("roi_error_" + study.name + ".png");
+  figure.render(png.string());
+  return png;
+}
+
 } // namespace
 
 std::vector<fs::path> writeCampaignFigures(const std::vector<CurveRow>& rows,
-                                           const fs::path& out_dir)
+                                           const fs::path& out_dir,
+                                           const CampaignDefinition* definition)
 {
   std::vector<std::string> studies;
   for (const CurveRow& r : rows)
@@ -263,6 +376,16 @@ std::vector<fs::path> writeCampaignFigures(const std::vector<CurveRow>& rows,
     written.push_back(out_dir / ("f1_" + study + ".png"));
     figure.render(written.back().string());
   }
+
+  if (definition)
+    for (const CampaignStudy& study : definition->studies) {
+      std::vector<std::string> study_levels;
+      for (const CurveRow& r : rows)
+        if (r.study == study.name)
+          addOnce(study_levels, r.level);
+      if (const auto png = writeRoiErrorFigure(rows, study, study_levels, out_dir))
+        written.push_back(*png);
+    }
   return written;
 }
 
@@ -277,8 +400,9 @@ CampaignReportFiles writeCampaignReportFiles(const fs::path& dir, const fs::path
   CampaignReportFiles r;
   std::string title = "Campaign " + dir.filename().string();
   std::vector<StoredTrial> trials;
-  if (fs::exists(store.definitionPath())) {
-    CampaignFile f;
+  CampaignFile f;
+  const bool has_definition = fs::exists(store.definitionPath());
+  if (has_definition) {
     const StoreStatus s = campaignDirectoryStatus(dir, &f);
     title = "Campaign '" + f.definition.name + "'";
     r.missing = s.missing;
@@ -295,7 +419,8 @@ CampaignReportFiles writeCampaignReportFiles(const fs::path& dir, const fs::path
   writeCampaignReport(trials, out_dir, title);
   r.written = {out_dir / "curves.csv", out_dir / "summary.md"};
   if (figures)
-    for (const fs::path& png : writeCampaignFigures(campaignCurves(trials), out_dir))
+    for (const fs::path& png : writeCampaignFigures(
+             campaignCurves(trials), out_dir, has_definition ? &f.definition : nullptr))
       r.written.push_back(png);
   return r;
 }

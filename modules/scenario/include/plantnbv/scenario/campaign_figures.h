@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include <plantnbv/experiment/campaign.h>
 #include <plantnbv/experiment/campaign_report.h>
 
 namespace plantnbv {
@@ -23,11 +24,17 @@ namespace scenario {
 /// dash-dotted with pluses, nbv-fruit reddish purple; other planners take, in order, the
 /// colours and markers left free (solid lines). The x axis counts views from 1 (v0
 /// only) with whole-number ticks; one legend stands right of the panels. About 1200 px
-/// wide. Returns the files written.
+/// wide. With the campaign's `definition`, also roi_error_<study>.png for each study
+/// whose NBV planners with a noisy ROI source (RoiSource) on one attention ROI and scale
+/// have at least two sigmas: F1 after 3 views against sigma (cm), one panel per level,
+/// one curve per attention ROI in its planner's style, and the study's other planners
+/// (the baselines, oracle NBV planners) as flat lines in theirs. Returns the files
+/// written.
 /// \throws Error when rendering fails (e.g. no X display: run under xvfb-run).
 std::vector<std::filesystem::path>
 writeCampaignFigures(const std::vector<CurveRow>& rows,
-                     const std::filesystem::path& out_dir);
+                     const std::filesystem::path& out_dir,
+                     const CampaignDefinition* definition = nullptr);
 
 /// \brief What writeCampaignReportFiles read and wrote.
 struct CampaignReportFiles {
