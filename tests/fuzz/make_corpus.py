@@ -345,9 +345,35 @@ depth_scale: 1000
         ""]).encode() + depth_png(4, 2, [1, 2, 65535, 0, 5000, 6000, 7000, 8000]))
 
 
+def detections():
+    # Detection files for an 8 x 6 image (fuzz_detections_json.cpp); beside the input,
+    # "mask.png" is an 8 x 6 mask, "small.png" a 4 x 3 one, "text.png" not a PNG.
+    t = "detections_json"
+    put(t, "boxes.json", json.dumps({"detections": [
+        {"class": "leaf_node", "score": 0.9, "box": [1.5, 2, 3.5, 3]},
+        {"class": "fruit", "score": 1, "box": [0, 0, 8, 6]},
+        {"class": "main_stem", "score": 0.0, "box": [3, 3, 3, 3]}]}, indent=1))
+    put(t, "masks.json", '{"detections": [\n'
+        '  {"class": "fruit", "score": 0.75, "box": [4, 2, 8, 6], "mask": "mask.png"},\n'
+        '  {"class": "leaf_node", "score": 0.5, "box": [0, 0, 1, 1], "mask": "./mask.png"}\n'
+        ']}\n')
+    put(t, "empty.json", '{"detections": []}\n')
+    put(t, "bad_mask_size.json", '{"detections": [{"class": "a", "score": 0.5, '
+        '"box": [0, 0, 1, 1], "mask": "small.png"}]}')
+    put(t, "bad_mask_png.json", '{"detections": [{"class": "a", "score": 0.5, '
+        '"box": [0, 0, 1, 1], "mask": "text.png"}]}')
+    put(t, "bad_mask_path.json", '{"detections": [{"class": "a", "score": 0.5, '
+        '"box": [0, 0, 1, 1], "mask": "../mask.png"}]}')
+    put(t, "bad_values.json", '{"detections": [{"class": "", "score": 1.5, '
+        '"box": [3, 0, 2, 9], "colour": "red"}]}')
+    put(t, "repeated_key.json", '{"detections": [{"class": "a", "class": "b", '
+        '"score": 0.5, "box": [0, 0, 1, 1]}], "x": [[{"k": 1, "k": 2}]]}')
+    put(t, "not_json.json", '{"detections": [{"class": "a", "score": 1e999, "box": [0, 0')
+
+
 def campaign():
     t = "campaign_yaml"
-    for name in ["quick.yaml", "paper.yaml", "roi_error.yaml"]:
+    for name in ["quick.yaml", "paper.yaml", "roi_error.yaml", "roi_detections.yaml"]:
         put(t, name, (ROOT / "data" / "campaigns" / name).read_bytes())
     put(t, "models.yaml", """name: models
 seed: 7
@@ -400,7 +426,8 @@ def yaml():
 if __name__ == "__main__":
     if OUT.exists():
         shutil.rmtree(OUT)
-    for make in [pcd, ply, vrml, assimp, collada, roi, frames, anatomy, campaign, yaml]:
+    for make in [pcd, ply, vrml, assimp, collada, roi, frames, anatomy, detections,
+                 campaign, yaml]:
         make()
     for d in sorted(OUT.iterdir()):
         print("%-14s %d files" % (d.name, len(list(d.iterdir()))))

@@ -164,6 +164,52 @@ std::string formatStamp(double stamp_s)
   return s.str();
 }
 
+/// For each line of depth.txt, the line of detections.txt whose stamp is within
+/// kMaxDetectionDt_s of its own (null if none). Every line of detections.txt must
+/// belong to a frame, and a frame has at most one.
+std::vector<const StampedFile*>
+matchDetections(const std::vector<StampedFile>& frames, const std::string& frames_path,
+                const std::vector<StampedFile>& detections,
+                const std::string& detections_path)
+{
+  std::vector<const StampedFile*> sorted;
+  for (const StampedFile& d : detections)
+    sorted.push_back(&d);
+  std::stable_sort(
+      sorted.begin(), sorted.end(),
+      [](const StampedFile* a, const StampedFile* b) { return a->stamp_s < b->stamp_s; });
+  std::vector<const StampedFile*> match(frames.size(), nullptr);
+  std::vector<bool> used(detections.size(), false);
+  for (std::size_t i = 0; i < frames.size(); ++i) {
+    const StampedFile& f = frames[i];
+    auto it = std::lower_bound(
+        sorted.begin(), sorted.end(), f.stamp_s - kMaxDetectionDt_s,
+        [](const StampedFile* d, double stamp) { return d->stamp_s < stamp; });
+    for (; it != sorted.end() && (*it)->stamp_s <= f.stamp_s + kMaxDetectionDt_s; ++it) {
+      const StampedFile* d = *it;
+      used[std::size_t(d - detections.data())] = true;
+      if (!match[i]) {
+        match[i] = d;
+        continue;
+      }
+      const StampedFile* second = match[i]->line > d->line ? match[i] : d;
+      const StampedFile* first = second == d ? match[i] : d;
+      failLine(detections_path, second->line,
+               "'" + second->file + "' is a second detection file for frame '" + f.file +
+                   "' (" + formatStamp(f.stamp_s) + " s, line " + std::to_string(f.line) +
+                   " of " + inQuotes(frames_path) + "; line " +
+                   std::to_string(first->line) + " lists '" + first->file + "')");
+    }
+  }
+  for (std::size_t k = 0; k < detections.size(); ++k)
+    if (!used[k])
+      failLine(detections_path, detections[k].line,
+               "'" + detections[k].file + "' (" + formatStamp(detections[k].stamp_s) +
+                   " s) matches no frame of " + inQuotes(frames_path) +
+                   " (a detection file takes the frame of its stamp, within 1e-6 s)");
+  return match;
+}
+
 } // namespace
 
 CameraInfo readCameraInfo(const std::string& path)
@@ -344,10 +390,17 @@ FramesFolder::FramesFolder(const std::string& folder, const FramesFolderOptions&
   std::vector<StampedPose> poses = readTumTrajectory(poses_path);
   if (files.empty())
     throw FormatError(inQuotes(list_path) + ": lists no frame");
+  const std::string detections_path = (dir / "detections.txt").string();
+  std::vector<StampedFile> detections;
+  if (fs::exists(detections_path, ec))
+    detections = readTumFileList(detections_path);
+  const std::vector<const StampedFile*> frame_detections =
+      matchDetections(files, list_path, detections, detections_path);
   std::stable_sort(
       poses.begin(), poses.end(),
       [](const StampedPose& a, const StampedPose& b) { return a.stamp_s < b.stamp_s; });
-  for (const StampedFile& f : files) {
+  for (std::size_t i = 0; i < files.size(); ++i) {
+    const StampedFile& f = files[i];
     // The nearest pose: the first at or after the stamp, or the one before it.
     const auto after = std::lower_bound(
         poses.begin(), poses.end(), f.stamp_s,
@@ -377,6 +430,8 @@ FramesFolder::FramesFolder(const std::string& folder, const FramesFolderOptions&
     r.depth_path = (dir / f.file).string();
     r.T_W_O = best->pose;
     r.pose_dt_s = dt;
+    if (frame_detections[i])
+      r.detections_path = (dir / frame_detections[i]->file).string();
     frames_.push_back(r);
   }
   if (frames_.empty())
@@ -392,6 +447,17 @@ void FramesFolder::loadDepth(std::size_t i, DepthImage& depth) const
   const CameraIntrinsics& K = camera_.intrinsics;
   // The size is checked from the header, before the pixels are allocated.
   loadDepthPng(frame.depth_path, depth, camera_.depth_scale, K.width, K.height);
+}
+
+void FramesFolder::loadDetections(std::size_t i, std::vector<Detection>& detections) const
+{
+  const FrameRecord& frame = frames_.at(i);
+  if (frame.detections_path.empty()) {
+    detections.clear();
+    return;
+  }
+  const CameraIntrinsics& K = camera_.intrinsics;
+  detections = readDetections(frame.detections_path, K.width, K.height);
 }
 
 FramesFolderWriter::FramesFolderWriter(const std::string& folder,
@@ -427,10 +493,14 @@ FramesFolderWriter::FramesFolderWriter(const std::string& folder,
       ++count_;
       last_stamp_s_ = std::max(last_stamp_s_, f.stamp_s);
     }
+  // Appended to as it is: it must be readable.
+  const std::string detections_path = (dir / "detections.txt").string();
+  if (fs::exists(detections_path, ec))
+    readTumFileList(detections_path);
 }
 
 void FramesFolderWriter::append(const DepthImage& depth, const Pose& T_W_O,
-                                double stamp_s)
+                                double stamp_s, const std::vector<Detection>* detections)
 {
   const CameraIntrinsics& K = camera_.intrinsics;
   if (depth.width != K.width || depth.height != K.height)
@@ -453,7 +523,43 @@ void FramesFolderWriter::append(const DepthImage& depth, const Pose& T_W_O,
     throw IoError(inQuotes(png_path) +
                   " exists but depth.txt does not list it: refusing to "
                   "overwrite it");
+  // The detection files of this frame: the JSON and the masks writeDetections names.
+  char json_name[32];
+  std::snprintf(json_name, sizeof(json_name), "detections/%06zu.json", count_);
+  std::vector<std::string> detection_files;
+  if (detections) {
+    detection_files.push_back((dir / json_name).string());
+    for (std::size_t k = 0; k < detections->size(); ++k)
+      if (!(*detections)[k].mask.empty()) {
+        char mask_name[48];
+        std::snprintf(mask_name, sizeof(mask_name), "detections/%06zu_%zu.png", count_,
+                      k);
+        detection_files.push_back((dir / mask_name).string());
+      }
+    for (const std::string& file : detection_files)
+      if (fs::exists(file, ec))
+        throw IoError(inQuotes(file) +
+                      " exists but detections.txt does not list it: refusing to "
+                      "overwrite it");
+  }
+  const auto removeDetectionFiles = [&] {
+    for (const std::string& file : detection_files)
+      fs::remove(file, ec);
+  };
   saveDepthPng(png_path, depth.width, depth.height, depth.depth_m, camera_.depth_scale);
+  if (detections) {
+    try {
+      fs::create_directories(dir / "detections", ec);
+      if (ec)
+        throw IoError("cannot create " + inQuotes((dir / "detections").string()) + ": " +
+                      ec.message());
+      writeDetections(detection_files.front(), *detections, K.width, K.height);
+    } catch (const Error&) {
+      removeDetectionFiles();
+      fs::remove(png_path, ec);
+      throw;
+    }
+  }
 
   // Each list is written again whole with its new line (a few bytes a frame beside a
   // depth PNG), both prepared before either replaces its file: a full disk leaves the
@@ -474,6 +580,7 @@ void FramesFolderWriter::append(const DepthImage& depth, const Pose& T_W_O,
   std::ostringstream pose;
   pose << stamp << std::setprecision(17) << ' ' << t.x() << ' ' << t.y() << ' ' << t.z()
        << ' ' << q.x() << ' ' << q.y() << ' ' << q.z() << ' ' << q.w();
+  std::unique_ptr<AtomicFile> detection_list;
   try {
     const auto poses =
         withLine("groundtruth.txt",
@@ -485,16 +592,34 @@ void FramesFolderWriter::append(const DepthImage& depth, const Pose& T_W_O,
                  "# depth images (16-bit PNG, depth_scale units per metre "
                  "in camera.yaml)\n# timestamp filename\n",
                  stamp + ' ' + name);
+    if (detections)
+      detection_list = withLine("detections.txt",
+                                "# 2D detections of the depth frames (JSON, "
+                                "docs/real-robot.md)\n# timestamp filename\n",
+                                stamp + ' ' + json_name);
     poses->prepare();
     frames->prepare();
+    if (detection_list)
+      detection_list->prepare();
     poses->commit();
     frames->commit();
   } catch (const Error&) {
     fs::remove(png_path, ec); // unlisted, it would stop the next frame
+    removeDetectionFiles();
     throw;
   }
   ++count_;
   last_stamp_s_ = stamp_s;
+  // Last: a frame listed without its detections is a valid folder, detections listed
+  // without their frame are not.
+  if (detection_list) {
+    try {
+      detection_list->commit();
+    } catch (const Error&) {
+      removeDetectionFiles();
+      throw;
+    }
+  }
 }
 
 } // namespace io

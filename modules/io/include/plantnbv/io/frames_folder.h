@@ -14,8 +14,17 @@
 ///                    optical frame (z forward, x right, y down) in the world (z up);
 ///                    poses.txt is read when groundtruth.txt is absent
 ///   depth/*.png      16-bit grey, depth_scale units per metre, 0 = no return
-///   detections/      reserved for detections (not read yet)
+///   detections.txt   optional: "timestamp filename" per line, '#' comments, listing
+///                    the frames' detection files
+///   detections/*.json  2D detections of a frame, with their masks (detections_io.h)
 /// \endcode
+///
+/// A frame takes the detection file whose stamp equals its depth stamp within
+/// kMaxDetectionDt_s (1e-6 s: the same microsecond, as written with 6 decimals). A line
+/// of detections.txt that matches no line of depth.txt, or a second one for the same
+/// frame, is an error naming it; the detections of a frame skipped for want of a pose are
+/// ignored with it. A frame with no line in detections.txt has no detections (the
+/// detector did not run on it); an empty list means it found nothing.
 ///
 /// Every error is a FormatError or IoError naming the file and, for text files, the line.
 
@@ -27,9 +36,14 @@
 #include <plantnbv/camera/camera_intrinsics.h>
 #include <plantnbv/camera/depth_image.h>
 #include <plantnbv/common/pose.h>
+#include <plantnbv/io/detections_io.h>
 
 namespace plantnbv {
 namespace io {
+
+/// \brief A detection file belongs to the frame whose depth stamp is within this of its
+/// own, seconds.
+constexpr double kMaxDetectionDt_s = 1e-6;
 
 /// \brief What camera.yaml says: pinhole intrinsics (range limits as CameraIntrinsics'
 /// defaults) and the depth PNGs' units.
@@ -66,8 +80,8 @@ struct StampedPose {
   std::size_t line = 0; ///< its line in the file (from 1), for messages
 };
 
-/// \brief Reads depth.txt. Blank lines and lines starting with '#' are skipped; a file
-/// name must be relative and must not leave the folder ("..").
+/// \brief Reads depth.txt (or detections.txt). Blank lines and lines starting with '#'
+/// are skipped; a file name must be relative and must not leave the folder ("..").
 /// \throws IoError, FormatError "'depth.txt' line N: ...".
 std::vector<StampedFile> readTumFileList(const std::string& path);
 /// \brief Reads groundtruth.txt / poses.txt: 8 finite numbers per line; a quaternion
@@ -81,6 +95,9 @@ struct FrameRecord {
   std::string depth_path; ///< the PNG's path (folder + file)
   Pose T_W_O;             ///< the optical frame's pose
   double pose_dt_s = 0.0; ///< |depth stamp - pose stamp|
+  /// The detection file's path (folder + file, from detections.txt); empty when the
+  /// frame has none.
+  std::string detections_path;
 };
 
 /// \brief How a folder's frames are matched with poses.
@@ -108,9 +125,11 @@ struct FramesFolderOptions {
 class FramesFolder {
 public:
   /// \brief Reads camera.yaml, depth.txt and groundtruth.txt (or poses.txt) and matches
-  /// frames to poses; the PNGs are read by loadDepth.
+  /// frames to poses, and detections.txt when there is one and matches frames to
+  /// detection files; the PNGs are read by loadDepth, the detections by loadDetections.
   /// \throws IoError naming a missing file; FormatError for a bad line, a frame with no
-  /// pose near it (unless skip_unmatched), a folder with no frame.
+  /// pose near it (unless skip_unmatched), a folder with no frame, a line of
+  /// detections.txt that matches no frame or a frame that has one already.
   explicit FramesFolder(const std::string& folder,
                         const FramesFolderOptions& options = {});
 
@@ -128,6 +147,11 @@ public:
   /// truncated, or its size differs from camera.yaml's.
   void loadDepth(std::size_t i, DepthImage& depth) const;
 
+  /// \brief Reads frame i's detections (readDetections, checked against the camera's
+  /// image size); empty when the frame has no detection file.
+  /// \throws what readDetections throws.
+  void loadDetections(std::size_t i, std::vector<Detection>& detections) const;
+
 private:
   std::string folder_;
   CameraInfo camera_;
@@ -136,12 +160,15 @@ private:
 };
 
 /// \brief Appends frames to a frames folder (created if missing): camera.yaml on first
-/// use, depth/NNNNNN.png, a line in depth.txt and in groundtruth.txt per frame.
+/// use, depth/NNNNNN.png, a line in depth.txt and in groundtruth.txt per frame, and for
+/// a frame given detections, detections/NNNNNN.json (the same NNNNNN; masks
+/// detections/NNNNNN_k.png) and a line in detections.txt.
 ///
 /// Appending to a folder keeps what is there: the camera must be the one of its
-/// camera.yaml, a stamp must be later than the last one, and a PNG is never
-/// overwritten. The PNG is written before the lines, so an interrupted append leaves at
-/// most an unlisted PNG.
+/// camera.yaml, a stamp must be later than the last one, and a PNG or detection file is
+/// never overwritten. The files are written before the lines, and detections.txt's line
+/// last, so an interrupted append leaves at most unlisted files or a frame without its
+/// detections.
 class FramesFolderWriter {
 public:
   /// \throws IoError if the folder cannot be made; FormatError if it holds a
@@ -155,10 +182,16 @@ public:
 
   /// \brief Appends one frame: `depth` written in the camera's depth_scale (so NaN and
   /// depths that round to 0 read back as no return), T_W_O its optical frame.
+  /// \param[in] depth the frame, of the camera's size
+  /// \param[in] T_W_O its optical frame in the world
   /// \param[in] stamp_s its timestamp; NaN: the last one + 1 s (0 for the first).
-  /// \throws InvalidArgumentError for a size other than the camera's or a stamp not
-  /// after the last; IoError if a file cannot be written.
-  void append(const DepthImage& depth, const Pose& T_W_O, double stamp_s);
+  /// \param[in] detections when not null, the frame's detections (an empty list: the
+  /// detector found nothing), written by writeDetections; null: none (default).
+  /// \throws InvalidArgumentError for a size other than the camera's, a stamp not after
+  /// the last, or detections writeDetections refuses; IoError if a file cannot be
+  /// written or a detection file of this frame's number exists (unlisted).
+  void append(const DepthImage& depth, const Pose& T_W_O, double stamp_s,
+              const std::vector<Detection>* detections = nullptr);
 
 private:
   std::string folder_;

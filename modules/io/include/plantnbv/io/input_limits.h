@@ -17,6 +17,10 @@
 ///   vertices are copied out of Assimp's scene (OBJ, STL, Collada);
 /// - max_triangles: the triangle count of a mesh after triangulation, likewise; for
 ///   VRML also the node instances walked (DEF/USE can nest to 2^depth instances).
+///
+/// Detection files have fixed caps of their own (detections_io.h):
+/// kMaxDetectionsPerFrame entries, kMaxMaskBytesPerFrame of masks, 64 MiB of JSON (or
+/// max_file_bytes if smaller).
 
 #include <cstdint>
 
