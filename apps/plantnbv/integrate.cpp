@@ -18,8 +18,10 @@
 #include <plantnbv/experiment/trial.h>
 #include <plantnbv/io/file_kind.h>
 #include <plantnbv/io/frames_folder.h>
+#include <plantnbv/io/roi_io.h>
 #include <plantnbv/scenario/trial_config_file.h>
 #include <plantnbv/session/active_vision_session.h>
+#include <plantnbv/session/detection_fusion.h>
 #include <plantnbv/session/memory_estimate.h>
 
 #include "cli_checks.h"
@@ -43,6 +45,8 @@ struct IntegrateOptions {
   std::string frame_list;
   bool skip_unmatched = false;
   std::optional<int> threads;
+  std::string roi_out;
+  std::string roi_class = "leaf_node";
 };
 
 /// The frame indices of LIST ("0,2,5-7": positions in the folder's frame list).
@@ -100,6 +104,19 @@ void runIntegrate(const IntegrateOptions& o)
   if (o.threads)
     config.threads = *o.threads;
   config.map.validate();
+  if (!o.roi_out.empty() && io::extensionOf(o.roi_out) != ".yaml")
+    throw InvalidArgumentError("--roi-out '" + o.roi_out +
+                               "': expected a file name ending in .yaml");
+  DetectionFusion fusion;
+  if (!o.roi_out.empty()) {
+    DetectionFusion::Config fusion_config;
+    fusion_config.class_name = o.roi_class;
+    try {
+      fusion.setConfig(fusion_config);
+    } catch (const InvalidArgumentError& e) {
+      throw InvalidArgumentError("--roi-class '" + o.roi_class + "': " + e.what());
+    }
+  }
   io::FramesFolderOptions folder_options;
   folder_options.skip_unmatched = o.skip_unmatched;
   if (o.depth_scale) {
@@ -147,6 +164,8 @@ void runIntegrate(const IntegrateOptions& o)
 
   Stopwatch total_clock;
   DepthImage depth;
+  std::vector<Detection> detections;
+  std::size_t frames_with_detections = 0;
   std::size_t returns = 0;
   double decode_ms = 0.0, insert_ms = 0.0;
   for (std::size_t i : selected) {
@@ -157,6 +176,11 @@ void runIntegrate(const IntegrateOptions& o)
     Stopwatch insert_clock;
     session.integrate(depth, camera.intrinsics, frame.T_W_O);
     const double frame_insert_ms = insert_clock.ms();
+    if (!o.roi_out.empty() && !frame.detections_path.empty()) {
+      folder.loadDetections(i, detections);
+      fusion.addFrame(detections, depth, camera.intrinsics, frame.T_W_O);
+      ++frames_with_detections;
+    }
     const OccupancyMap::InsertStats& stats = map.getLastInsertStats();
     const std::size_t frame_returns = stats.points - stats.non_finite;
     returns += frame_returns;
@@ -177,6 +201,29 @@ void runIntegrate(const IntegrateOptions& o)
             << " ms (decode " << decode_ms << " ms, insert " << insert_ms << " ms, write "
             << write_clock.ms() << " ms); wrote '" << o.output << "': " << counts.occupied
             << " occupied, " << counts.free << " free voxels\n";
+  if (o.roi_out.empty())
+    return;
+  const Roi roi = fusion.getRoi();
+  const DetectionFusion::Counts& c = fusion.getCounts();
+  std::cout << "fused " << c.detections << " detections of " << frames_with_detections
+            << " frames into " << fusion.getInstances().size() << " '" << o.roi_class
+            << "' instances (" << c.other_class << " of other classes, " << c.low_score
+            << " under score " << fusion.getConfig().min_score << ", " << c.too_few_points
+            << " with too few points left out)";
+  if (!roi.empty()) {
+    io::saveRoi(o.roi_out, roi);
+    std::cout << "; wrote '" << o.roi_out << "': " << roi.size() << " boxes\n";
+    return;
+  }
+  // Nothing found: no ROI file (an ROI file holds boxes), and none from an earlier run.
+  std::error_code ec;
+  const bool removed = std::filesystem::remove(o.roi_out, ec);
+  std::cout << "\n";
+  std::cerr << "warning: no '" << o.roi_class << "' found in '" << o.frames
+            << (frames_with_detections == 0 ? "' (it has no detections.txt)" : "'")
+            << ": no ROI written to '" << o.roi_out << "'"
+            << (removed ? " (an earlier run's file removed)" : "")
+            << "; `plan` without --roi attends to the whole plant's box\n";
 }
 
 } // namespace
@@ -208,6 +255,11 @@ void addIntegrateCommand(CLI::App& app)
       "Only these frames: indices and ranges of depth.txt's frames, e.g. 0,2,5-7");
   cmd->add_flag("--skip-unmatched", o->skip_unmatched,
                 "Skip frames with no pose within 0.02 s (default: an error)");
+  cmd->add_option("--roi-out", o->roi_out,
+                  "Also fuse the frames' detections (detections.txt) into 3D boxes and "
+                  "write them as an ROI file for `plan --roi` (.yaml)");
+  cmd->add_option("--roi-class", o->roi_class,
+                  "The detection class --roi-out fuses (default leaf_node)");
   cmd->add_option("--threads", o->threads, "Threads (default: all cores)")
       ->transform(threadCount("--threads"));
   cmd->callback([o]() { runIntegrate(*o); });

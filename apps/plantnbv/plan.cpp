@@ -171,6 +171,10 @@ void runPlan(const PlanOptions& o)
   if (!o.current_pose.empty())
     current = parsePose(o.current_pose, "--current-pose");
   o.roi_source.applyTo(config.roi_source, "--");
+  if (config.roi_source.kind == RoiSourceKind::detections)
+    throw InvalidArgumentError(
+        "--roi-source detections: plan attends to an ROI file; `plantnbv integrate "
+        "FRAMES --roi-out ROI.yaml` fuses a frames folder's detections into one");
   const Roi roi = config.roi_source.apply(planRoi(o.roi, sector.axis_base),
                                           roiSourceSeed(config.seed));
 
@@ -322,7 +326,7 @@ void addPlanCommand(CLI::App& app)
       ->check(unsignedInteger());
   cmd->add_option("--threads", o->threads, "Threads (default: all cores)")
       ->transform(threadCount("--threads"));
-  addRoiSourceOptions(*cmd, o->roi_source, "--seed");
+  addRoiSourceOptions(*cmd, o->roi_source, "--seed", false);
   cmd->add_flag("--json", o->json, "One JSON object: best, candidates, timings");
   cmd->add_flag("--pose-only", o->pose_only,
                 "Print only the best optical pose x,y,z,qx,qy,qz,qw (for scripts)")

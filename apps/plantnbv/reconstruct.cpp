@@ -125,6 +125,8 @@ nlohmann::json summaryJson(const ReconstructOptions& o, const PlacedPlant& place
        {{"type", roiSourceKindName(c.roi_source.kind)},
         {"sigma", c.roi_source.sigma_m},
         {"scale", c.roi_source.scale},
+        {"detector_recall", c.roi_source.detector_recall},
+        {"detector_false_positives", c.roi_source.detector_false_positives},
         {"seed", roiSourceSeed(c.seed)}}},
       {"views", c.views},
       {"candidates", c.grid_rows * c.grid_cols * c.samples_per_cell},
@@ -299,8 +301,9 @@ void runReconstruct(const ReconstructOptions& o)
 
   Trial trial(config);
   if (frames)
-    trial.setFrameCallback(
-        [&](const TrialFrame& f) { frames->append(*f.depth, f.T_W_O, double(f.index)); });
+    trial.setFrameCallback([&](const TrialFrame& f) {
+      frames->append(*f.depth, f.T_W_O, double(f.index), f.detections);
+    });
   const std::vector<EvaluationLevel> levels = scenario::evaluationLevels(placed);
   for (const std::string& w :
        scenario::trialWarnings(placed, config, attention_roi, levels))
@@ -413,7 +416,7 @@ void addReconstructCommand(CLI::App& app)
                   "Depth units per metre the trial rounds to (default 0: none; 1000 with "
                   "--frames-out)");
   addSensorOptions(*cmd, o->sensor, "the config's, else l515-640", "--seed");
-  addRoiSourceOptions(*cmd, o->trial.roi, "--seed");
+  addRoiSourceOptions(*cmd, o->trial.roi, "--seed", true);
   cmd->add_option("--snapshot", o->snapshot,
                   "Also render a PNG: the scored voxels coloured by outcome against "
                   "ground truth, the attention ROI, the numbered views (needs X; "

@@ -6,16 +6,26 @@ namespace plantnbv {
 namespace app {
 
 void addRoiSourceOptions(CLI::App& cmd, scenario::RoiSourceOverrides& o,
-                         const std::string& seed)
+                         const std::string& seed, bool simulated_detector)
 {
   cmd.add_option("--roi-source", o.source,
                  "Where the attended ROI comes from: oracle (the boxes as given; "
-                 "default) or noisy (each box moved by a Gaussian error, seeded by " +
-                     seed + ")");
+                 "default), noisy (each box moved by a Gaussian error, seeded by " +
+                     seed + ")" +
+                     (simulated_detector
+                          ? ", or detections (a simulated detector's finds, fused)"
+                          : ""));
   cmd.add_option("--roi-sigma", o.sigma_m,
                  "noisy: standard deviation of each box centre's error per axis, metres");
   cmd.add_option("--roi-scale", o.scale,
                  "noisy: factor on every box's sides (default 1)");
+  if (!simulated_detector)
+    return;
+  cmd.add_option("--detector-recall", o.detector_recall,
+                 "detections: probability that the detector finds a visible object "
+                 "(default 1)");
+  cmd.add_option("--detector-false-positives", o.detector_false_positives,
+                 "detections: false detections per frame, on average (default 0)");
 }
 
 } // namespace app

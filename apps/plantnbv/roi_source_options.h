@@ -1,6 +1,6 @@
 #pragma once
 // Where the attention ROI comes from, the same options in reconstruct and plan:
-// --roi-source, --roi-sigma, --roi-scale.
+// --roi-source, --roi-sigma, --roi-scale; in reconstruct also the simulated detector's.
 
 #include <plantnbv/scenario/trial_setup.h>
 
@@ -11,9 +11,11 @@ class App;
 namespace plantnbv {
 namespace app {
 
-/// Adds the options to a subcommand; `seed` names what seeds the noisy draw.
+/// Adds the options to a subcommand; `seed` names what seeds the noisy draw. With
+/// `simulated_detector`, also the simulated detector's (--detector-recall,
+/// --detector-false-positives) and the detections source.
 void addRoiSourceOptions(CLI::App& cmd, scenario::RoiSourceOverrides& options,
-                         const std::string& seed);
+                         const std::string& seed, bool simulated_detector);
 
 } // namespace app
 } // namespace plantnbv

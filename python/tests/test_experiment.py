@@ -78,6 +78,19 @@ def test_a_noisy_roi_source_is_reconstructs(placed, cli, tmp_path):
         pn.run_trial(placed, views=2, roi_sigma=0.01)
 
 
+def test_a_detections_roi_source_is_reconstructs(placed, cli, tmp_path):
+    cli("reconstruct", "--plant", 3, "--views", 2, "--seed", 5, "--attention", "leaf_nodes",
+        "--roi-source", "detections", "--detector-recall", 0.8, "-o", tmp_path / "tool")
+    tool = steps_csv(tmp_path / "tool" / "steps.csv")
+    ours = pn.run_trial(placed, attention="leaf_nodes", views=2, seed=5,
+                        roi_source="detections", detector_recall=0.8)
+    for column, values in tool.items():
+        if not column.endswith("_ms"):
+            np.testing.assert_array_equal(ours.columns()[column], values, err_msg=column)
+    assert len(ours.attended_roi.boxes) > 0
+    assert all(b.name.startswith("leaf_node_") for b in ours.attended_roi.boxes)
+
+
 def test_a_progress_callback_that_raises_stops_the_trial(placed):
     def stop(step):
         raise RuntimeError("enough at view %d" % step["view"])

@@ -1126,6 +1126,64 @@ TEST_F(RealRobotCliTest, ReconstructFramesReplayToTheTrialsMapBitForBit)
   EXPECT_TRUE(replayed == trial) << "the replayed map differs from the trial's";
 }
 
+TEST_F(RealRobotCliTest, ATrialsDetectionsReplayToItsRoiAndThePlanUsesIt)
+{
+  // A trial attending to its simulated detector's finds writes them beside its frames;
+  // `integrate --roi-out` fuses them into the boxes the trial attended to at its end.
+  const ToolRun r = run("reconstruct --plant 1 --views 3 --attention leaf_nodes "
+                        "--roi-source detections --detector-recall 0.8 --frames-out " +
+                        path("F") + " -o " + path("D"));
+  ASSERT_EQ(r.code, 0) << r.err;
+  const plantnbv::io::FramesFolder folder(path("F"));
+  ASSERT_EQ(folder.frames().size(), 3u);
+  std::size_t found = 0;
+  for (std::size_t i = 0; i < 3; ++i) {
+    ASSERT_FALSE(folder.frames()[i].detections_path.empty()) << i;
+    std::vector<plantnbv::Detection> detections;
+    folder.loadDetections(i, detections);
+    for (const plantnbv::Detection& d : detections) {
+      EXPECT_EQ(d.class_name, "leaf_node");
+      EXPECT_EQ(d.mask.size(), 640u * 480u);
+    }
+    found += detections.size();
+  }
+  EXPECT_GT(found, 0u);
+  const auto summary = nlohmann::json::parse(slurp(path("D/summary.json")));
+  EXPECT_EQ(summary["config"]["roi_source"]["type"], "detections");
+  EXPECT_EQ(summary["config"]["roi_source"]["detector_recall"], 0.8);
+  const auto& attended = summary["attended_roi"];
+  ASSERT_GT(attended.size(), 0u);
+
+  const ToolRun replay = run("integrate " + path("F") + " -o " + path("m.ot") +
+                             " --roi-out " + path("nodes.yaml"));
+  ASSERT_EQ(replay.code, 0) << replay.err;
+  EXPECT_NE(replay.out.find("'leaf_node' instances"), std::string::npos) << replay.out;
+  const plantnbv::Roi fused = plantnbv::io::loadRoi(path("nodes.yaml"));
+  ASSERT_EQ(fused.size(), attended.size());
+  for (std::size_t k = 0; k < fused.size(); ++k) {
+    const plantnbv::Box& b = fused.boxes()[k];
+    EXPECT_EQ(b.name, attended[k]["name"]);
+    for (int axis = 0; axis < 3; ++axis) {
+      EXPECT_DOUBLE_EQ(b.center[axis], attended[k]["center"][axis].get<double>());
+      EXPECT_DOUBLE_EQ(b.size[axis], attended[k]["size"][axis].get<double>());
+    }
+  }
+  const nlohmann::json plan =
+      planJson("--map " + path("m.ot") + " --roi " + path("nodes.yaml"));
+  EXPECT_EQ(plan["roi_meets_map"], true);
+  EXPECT_EQ(plan["all_gains_zero"], false);
+
+  // Another class finds nothing: no ROI file (an earlier one is removed), a warning.
+  fs::copy_file(path("nodes.yaml"), path("fruit.yaml"));
+  const ToolRun fruit = run("integrate " + path("F") + " -o " + path("m2.ot") +
+                            " --roi-out " + path("fruit.yaml") + " --roi-class fruit");
+  ASSERT_EQ(fruit.code, 0) << fruit.err;
+  EXPECT_FALSE(fs::exists(path("fruit.yaml")));
+  EXPECT_NE(fruit.err.find("warning: no 'fruit' found in"), std::string::npos)
+      << fruit.err;
+  EXPECT_NE(fruit.err.find("(an earlier run's file removed)"), std::string::npos);
+}
+
 TEST_F(RealRobotCliTest, PlanAttendsToANoisyRoiDrawnFromItsSeed)
 {
   capture("F");

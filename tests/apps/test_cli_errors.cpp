@@ -276,7 +276,8 @@ const std::vector<BadCall> kBadCalls = {
     {"reconstruct --plant 1 --config {d}/grid8.yaml --candidates 27 -o {d}/x", 1,
      "--candidates 27: expected a multiple of the 8 grid cells (8, 24, 40, ...)"},
     {"reconstruct --plant 1 --roi-source detector -o {d}/x", 1,
-     "--roi-source: unknown ROI source 'detector' (expected oracle or noisy)"},
+     "--roi-source: unknown ROI source 'detector' (expected oracle, noisy or "
+     "detections)"},
     {"reconstruct --plant 1 --roi-sigma 0.01 -o {d}/x", 1,
      "--roi-sigma 0.01: only the noisy ROI source uses it (--roi-source is oracle)"},
     {"reconstruct --plant 1 --roi-source noisy --roi-sigma -0.01 -o {d}/x", 1,
@@ -285,6 +286,21 @@ const std::vector<BadCall> kBadCalls = {
      "--roi-scale 0: expected a finite value > 0"},
     {"reconstruct --plant 1 --roi-source noisy --roi-sigma nan -o {d}/x", 1,
      "--roi-sigma nan: expected a finite value >= 0 (metres)"},
+    {"reconstruct --plant 1 --detector-recall 0.5 -o {d}/x", 1,
+     "--detector-recall 0.5: only the detections ROI source uses it (--roi-source is "
+     "oracle)"},
+    {"reconstruct --plant 1 --roi-source detections --detector-recall 1.5 -o {d}/x", 1,
+     "--detector-recall 1.5: expected a value in [0, 1]"},
+    {"reconstruct --plant 1 --roi-source detections --detector-false-positives -2 -o "
+     "{d}/x",
+     1, "--detector-false-positives -2: expected a value in [0, 1000] per frame"},
+    {"plan --map {d}/m.ot --roi-source detections", 1,
+     "--roi-source detections: plan attends to an ROI file"},
+    {"plan --map {d}/m.ot --detector-recall 0.5", 2, "--detector-recall"},
+    {"integrate {d}/good -o {d}/m.ot --roi-out {d}/r.txt", 1,
+     "--roi-out '{d}/r.txt': expected a file name ending in .yaml"},
+    {"integrate {d}/good -o {d}/m.ot --roi-out {d}/r.yaml --roi-class ''", 1,
+     "--roi-class '': DetectionFusion: class_name: empty"},
     {"plan --map {d}/m.ot --roi-scale 2", 1,
      "--roi-scale 2: only the noisy ROI source uses it (--roi-source is oracle)"},
 };

@@ -208,6 +208,55 @@ TEST(Trial, ANoisyRoiSourceWithSigmaZeroIsTheOracleBitForBit)
   EXPECT_TRUE(other_view);
 }
 
+TEST(Trial, DetectionsFindTheLeafNodesAndWithoutFindsTheTrialExplores)
+{
+  const auto plant = plantAt(2, 60.0);
+  const Roi nodes = leafNodeRoi(*plant);
+  TrialConfig config = smallConfig(PlannerKind::nbv, 4);
+  config.seed = 5;
+  config.roi_source.kind = RoiSourceKind::detections;
+  Trial trial(config);
+  trial.setPlant(plant);
+  trial.setAttentionRoi(nodes);
+  trial.setEvaluationLevels(levelsOf(*plant));
+  std::size_t frames_with_detections = 0;
+  trial.setFrameCallback([&](const TrialFrame& f) {
+    ASSERT_NE(f.detections, nullptr);
+    for (const Detection& d : *f.detections)
+      EXPECT_EQ(d.class_name, "leaf_node"); // the boxes' names, "leaf_node_<k>"
+    frames_with_detections += !f.detections->empty();
+  });
+  TrialResult result;
+  trial.run(result);
+  EXPECT_GT(frames_with_detections, 0u);
+  // Each fused box lies on a true node: its centre within a node box grown by 1 cm.
+  const Roi& found = trial.getAttendedRoi();
+  ASSERT_FALSE(found.empty());
+  EXPECT_LE(found.size(), nodes.size());
+  for (const Box& box : found.boxes()) {
+    bool on_a_node = false;
+    for (const Box& node : nodes.boxes())
+      on_a_node =
+          on_a_node || Box(node.center, node.size + Eigen::Vector3d::Constant(0.02))
+                           .contains(box.center);
+    EXPECT_TRUE(on_a_node) << box.center.transpose();
+  }
+
+  // A detector that finds nothing leaves the ROI empty: the planner attends to every
+  // voxel, as a trial without an attention ROI does, step for step.
+  config.roi_source.detector_recall = 0.0;
+  Trial blind(config);
+  blind.setPlant(plant);
+  blind.setAttentionRoi(nodes);
+  blind.setEvaluationLevels(levelsOf(*plant));
+  TrialResult explored;
+  blind.run(explored);
+  EXPECT_TRUE(blind.getAttendedRoi().empty());
+  TrialConfig plain = smallConfig(PlannerKind::nbv, 4);
+  plain.seed = 5;
+  expectSameSteps(explored, runTrial(plain, plant, Roi()));
+}
+
 TEST(Trial, RejectsABadConfigOrAMissingPlant)
 {
   TrialConfig c;

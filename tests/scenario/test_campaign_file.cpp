@@ -65,10 +65,17 @@ TEST(CampaignFile, AnNbvPlannerCanHaveANoisyRoiSourceThatNamesItAndReachesItsTri
           "      - {type: nbv, attention: leaf-nodes, roi_source: noisy, roi_scale: 2}\n"
           "      - {type: nbv, attention: main-stem}\n"
           "      - {type: nbv, attention: main-stem, roi_source: oracle, name: truth}\n"
+          "      - {type: nbv, attention: leaf-nodes, roi_source: detections, "
+          "detector_recall: 0.8, detector_false_positives: 1}\n"
           "      - {type: random}\n",
       "t.yaml");
   const std::vector<TrialSpec> specs = expandCampaign(f.definition);
-  ASSERT_EQ(specs.size(), 5u);
+  ASSERT_EQ(specs.size(), 6u);
+  EXPECT_EQ(specs[4].planner, "nbv-leaf-nodes-detections-recall0.8-fp1");
+  const TrialConfig c4 = campaignTrialConfig(f, specs[4]);
+  EXPECT_EQ(c4.roi_source.kind, RoiSourceKind::detections);
+  EXPECT_EQ(c4.roi_source.detector_recall, 0.8);
+  EXPECT_EQ(c4.roi_source.detector_false_positives, 1.0);
   EXPECT_EQ(specs[0].planner, "nbv-leaf-nodes-noisy10mm");
   EXPECT_EQ(specs[1].planner, "nbv-leaf-nodes-noisy0mm-x2");
   EXPECT_EQ(specs[2].planner, "nbv-main-stem");

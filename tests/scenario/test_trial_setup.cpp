@@ -61,6 +61,14 @@ TEST(Attention, PlannerNamesKeepThePapersSpelling)
             "nbv-leaf-nodes-noisy2.5mm-x1.5");
   EXPECT_EQ(nbvPlannerName(Attention::parse("leaf_nodes"), RoiSource()),
             "nbv-leaf-nodes");
+  RoiSource detections;
+  detections.kind = RoiSourceKind::detections;
+  EXPECT_EQ(nbvPlannerName(Attention::parse("leaf_nodes"), detections),
+            "nbv-leaf-nodes-detections");
+  detections.detector_recall = 0.8;
+  detections.detector_false_positives = 2;
+  EXPECT_EQ(nbvPlannerName(Attention::parse("leaf_nodes"), detections),
+            "nbv-leaf-nodes-detections-recall0.8-fp2");
 }
 
 TEST(TrialSetup, RoiSourceOverridesNameTheOptionAndAnOracleDropsAConfigsNoise)
@@ -82,10 +90,36 @@ TEST(TrialSetup, RoiSourceOverridesNameTheOptionAndAnOracleDropsAConfigsNoise)
   EXPECT_EQ(errorOf([] {
               RoiSource r;
               RoiSourceOverrides bad;
-              bad.source = "detections";
+              bad.source = "detector";
               bad.applyTo(r, "--");
             }),
-            "--roi-source: unknown ROI source 'detections' (expected oracle or noisy)");
+            "--roi-source: unknown ROI source 'detector' (expected oracle, noisy or "
+            "detections)");
+  // --roi-source noisy over a config's detector: its recall goes with it.
+  RoiSource detecting;
+  detecting.kind = RoiSourceKind::detections;
+  detecting.detector_recall = 0.5;
+  RoiSourceOverrides noisy;
+  noisy.source = "noisy";
+  noisy.applyTo(detecting, "--");
+  EXPECT_EQ(detecting.detector_recall, 1.0);
+  EXPECT_EQ(errorOf([] {
+              RoiSource r;
+              RoiSourceOverrides bad;
+              bad.source = "noisy";
+              bad.detector_recall = 0.5;
+              bad.applyTo(r, "--");
+            }),
+            "--detector-recall 0.5: only the detections ROI source uses it (--roi-source "
+            "is noisy)");
+  EXPECT_EQ(errorOf([] {
+              RoiSource r;
+              RoiSourceOverrides bad;
+              bad.source = "detections";
+              bad.detector_false_positives = -1;
+              bad.applyTo(r, "");
+            }),
+            "detector_false_positives -1: expected a value in [0, 1000] per frame");
   EXPECT_EQ(
       errorOf([] {
         RoiSource r;

@@ -48,7 +48,7 @@ TEST(RoiSource, NamesRoundTripAndAnUnknownOneIsRefusedNamingTheChoices)
     FAIL() << "accepted";
   } catch (const InvalidArgumentError& e) {
     EXPECT_EQ(std::string(e.what()),
-              "unknown ROI source 'detector' (expected oracle or noisy)");
+              "unknown ROI source 'detector' (expected oracle, noisy or detections)");
   }
 }
 

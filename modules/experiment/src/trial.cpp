@@ -14,6 +14,8 @@
 #include <plantnbv/experiment/trial.h>
 #include <plantnbv/planning/view_planner.h>
 #include <plantnbv/sensor/simulated_depth_sensor.h>
+#include <plantnbv/sensor/simulated_detector.h>
+#include <plantnbv/session/detection_fusion.h>
 #include <plantnbv/session/memory_estimate.h>
 
 namespace plantnbv {
@@ -29,6 +31,17 @@ enum SeedStream : std::uint64_t {
   kTruthStream = 3,
   kRoiStream = 4
 };
+
+/// The class of an ROI's boxes: the first box's name without its "_<number>" end
+/// ("leaf_node_2": "leaf_node"), or "roi" for a box without a name.
+std::string roiClassName(const Roi& roi)
+{
+  std::string name = roi.empty() ? "" : roi.boxes().front().name;
+  const std::size_t end = name.find_last_not_of("0123456789");
+  if (end != std::string::npos && end + 1 < name.size() && name[end] == '_')
+    name.erase(end);
+  return name.empty() ? "roi" : name;
+}
 
 ViewPlanner::Ptr makePlanner(const TrialConfig& c)
 {
@@ -227,6 +240,26 @@ void Trial::run(TrialResult& result)
   session.setPlanner(makePlanner(c));
   attended_ = c.roi_source.apply(attention_, roiSourceSeed(c.seed));
   session.setRoi(attended_);
+  // The detections source: a detector of the config's quality finds the attention
+  // ROI's boxes in each frame, and their fusion is what the next plan attends to.
+  const bool detecting = c.roi_source.kind == RoiSourceKind::detections;
+  SimulatedDetector detector;
+  DetectionFusion fusion;
+  std::vector<Detection> detections;
+  if (detecting) {
+    if (attention_.empty())
+      throw InvalidArgumentError("roi_source detections: the trial has no attention ROI "
+                                 "for the simulated detector to find");
+    SimulatedDetector::Config detector_config;
+    detector_config.class_name = roiClassName(attention_);
+    detector_config.recall = c.roi_source.detector_recall;
+    detector_config.false_positives = c.roi_source.detector_false_positives;
+    detector_config.seed = roiSourceSeed(c.seed);
+    detector.setConfig(detector_config);
+    DetectionFusion::Config fusion_config;
+    fusion_config.class_name = detector_config.class_name;
+    fusion.setConfig(fusion_config);
+  }
   map_ = session.getMap();
   result.setup_ms = setup_clock.ms();
   auto checkTimeLimit = [&](const char* after) {
@@ -268,7 +301,8 @@ void Trial::run(TrialResult& result)
 
     Stopwatch capture_clock;
     sensor.setFrameIndex(static_cast<std::uint64_t>(index));
-    sensor.capture(view, frame, rounded_depth || frame_callback_ ? &depth : nullptr);
+    sensor.capture(view, frame,
+                   rounded_depth || frame_callback_ || detecting ? &depth : nullptr);
     step.capture_ms = capture_clock.ms();
 
     Stopwatch insert_clock;
@@ -280,11 +314,18 @@ void Trial::run(TrialResult& result)
       session.integrate(frame, view.position);
     }
     step.insert_ms = insert_clock.ms();
+    if (detecting) { // the depth as integrated: a frames folder replays to this ROI
+      detector.detect(frame, attention_, static_cast<std::uint64_t>(index), detections);
+      fusion.addFrame(detections, depth, c.camera, T_W_O);
+      attended_ = fusion.getRoi();
+      session.setRoi(attended_);
+    }
     if (frame_callback_) {
       TrialFrame record;
       record.index = index;
       record.T_W_O = T_W_O;
       record.depth = &depth;
+      record.detections = detecting ? &detections : nullptr;
       frame_callback_(record);
     }
 

@@ -145,7 +145,8 @@ CampaignPlanner readPlanner(const YamlReader& r, const YAML::Node& node,
                 has_attention = true;
               }},
              {"roi_source", roiKey([&](const YAML::Node& n, const std::string& k) {
-                const std::string name = r.read<std::string>(n, k, "oracle or noisy");
+                const std::string name =
+                    r.read<std::string>(n, k, "oracle, noisy or detections");
                 try {
                   roi_source.kind = roiSourceKindFromName(name);
                 } catch (const InvalidArgumentError& e) {
@@ -157,6 +158,14 @@ CampaignPlanner readPlanner(const YamlReader& r, const YAML::Node& node,
               })},
              {"roi_scale", roiKey([&](const YAML::Node& n, const std::string& k) {
                 roi_source.scale = r.read<double>(n, k, "a number");
+              })},
+             {"detector_recall", roiKey([&](const YAML::Node& n, const std::string& k) {
+                roi_source.detector_recall = r.read<double>(n, k, "a number in [0, 1]");
+              })},
+             {"detector_false_positives",
+              roiKey([&](const YAML::Node& n, const std::string& k) {
+                roi_source.detector_false_positives =
+                    r.read<double>(n, k, "a number (per frame)");
               })},
              {"patterns", [&](const YAML::Node& n, const std::string& k) {
                 planner.patterns = r.readList<int>(n, k, "patterns 1-4");

@@ -40,13 +40,20 @@ std::string nbvPlannerName(const Attention& attention, const RoiSource& source)
     std::replace(kind.begin(), kind.end(), '_', '-');
     name = "nbv-" + kind;
   }
+  std::ostringstream s;
+  s << std::setprecision(6);
   if (source.kind == RoiSourceKind::noisy) {
-    std::ostringstream s;
-    s << "-noisy" << std::setprecision(6) << source.sigma_m * 1000.0 << "mm";
+    s << "-noisy" << source.sigma_m * 1000.0 << "mm";
     if (source.scale != 1.0)
-      s << "-x" << std::setprecision(6) << source.scale;
-    name += s.str();
+      s << "-x" << source.scale;
+  } else if (source.kind == RoiSourceKind::detections) {
+    s << "-detections";
+    if (source.detector_recall != 1.0)
+      s << "-recall" << source.detector_recall;
+    if (source.detector_false_positives != 0.0)
+      s << "-fp" << source.detector_false_positives;
   }
+  name += s.str();
   return name;
 }
 
@@ -119,12 +126,25 @@ void RoiSourceOverrides::applyTo(RoiSource& roi, const std::string& option_prefi
           e.what());
     }
   }
-  if (source && roi.kind == RoiSourceKind::oracle && !sigma_m && !scale)
-    roi = RoiSource(); // a config's noisy parameters mean nothing to the oracle
+  if (source) { // a config's parameters of another source mean nothing to this one
+    const RoiSource defaults;
+    if (roi.kind != RoiSourceKind::noisy) {
+      roi.sigma_m = defaults.sigma_m;
+      roi.scale = defaults.scale;
+    }
+    if (roi.kind != RoiSourceKind::detections) {
+      roi.detector_recall = defaults.detector_recall;
+      roi.detector_false_positives = defaults.detector_false_positives;
+    }
+  }
   if (sigma_m)
     roi.sigma_m = *sigma_m;
   if (scale)
     roi.scale = *scale;
+  if (detector_recall)
+    roi.detector_recall = *detector_recall;
+  if (detector_false_positives)
+    roi.detector_false_positives = *detector_false_positives;
   roi.validate(option_prefix);
 }
 

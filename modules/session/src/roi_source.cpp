@@ -1,3 +1,4 @@
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 
@@ -9,7 +10,7 @@ namespace plantnbv {
 
 namespace {
 
-constexpr const char* kRoiSourceNames[] = {"oracle", "noisy"};
+constexpr const char* kRoiSourceNames[] = {"oracle", "noisy", "detections"};
 
 } // namespace
 
@@ -20,29 +21,50 @@ const char* roiSourceKindName(RoiSourceKind kind)
 
 RoiSourceKind roiSourceKindFromName(const std::string& name)
 {
-  for (int i = 0; i < 2; ++i)
+  for (int i = 0; i < 3; ++i)
     if (name == kRoiSourceNames[i])
       return static_cast<RoiSourceKind>(i);
   throw InvalidArgumentError("unknown ROI source '" + name +
-                             "' (expected oracle or noisy)");
+                             "' (expected oracle, noisy or detections)");
 }
 
 void RoiSource::validate(const std::string& option_prefix) const
 {
-  auto key = [&option_prefix](const char* name) {
-    return option_prefix.empty() ? std::string("roi_") + name
-                                 : option_prefix + "roi-" + name;
+  // A config key (roi_sigma), or with a prefix the option (--roi-sigma).
+  auto key = [&option_prefix](std::string name) {
+    if (!option_prefix.empty())
+      std::replace(name.begin(), name.end(), '_', '-');
+    return option_prefix + name;
+  };
+  // A value that only `owner` uses, set with another source.
+  auto onlyFor = [&](std::ostringstream& s, const char* name, double value,
+                     RoiSourceKind owner) {
+    s << key(name) << " " << value << ": only the " << roiSourceKindName(owner)
+      << " ROI source uses it (" << key("roi_source") << " is " << roiSourceKindName(kind)
+      << ")";
   };
   std::ostringstream s;
   s.precision(17);
   if (!(std::isfinite(sigma_m) && sigma_m >= 0.0))
-    s << key("sigma") << " " << sigma_m << ": expected a finite value >= 0 (metres)";
+    s << key("roi_sigma") << " " << sigma_m << ": expected a finite value >= 0 (metres)";
   else if (!(std::isfinite(scale) && scale > 0.0))
-    s << key("scale") << " " << scale << ": expected a finite value > 0";
-  else if (kind == RoiSourceKind::oracle && (sigma_m != 0.0 || scale != 1.0))
-    s << key(sigma_m != 0.0 ? "sigma" : "scale") << " "
-      << (sigma_m != 0.0 ? sigma_m : scale) << ": only the noisy ROI source uses it ("
-      << key("source") << " is oracle)";
+    s << key("roi_scale") << " " << scale << ": expected a finite value > 0";
+  else if (!(detector_recall >= 0.0 && detector_recall <= 1.0))
+    s << key("detector_recall") << " " << detector_recall
+      << ": expected a value in [0, 1]";
+  else if (!(std::isfinite(detector_false_positives) && detector_false_positives >= 0.0 &&
+             detector_false_positives <= 1000.0))
+    s << key("detector_false_positives") << " " << detector_false_positives
+      << ": expected a value in [0, 1000] per frame";
+  else if (kind != RoiSourceKind::noisy && sigma_m != 0.0)
+    onlyFor(s, "roi_sigma", sigma_m, RoiSourceKind::noisy);
+  else if (kind != RoiSourceKind::noisy && scale != 1.0)
+    onlyFor(s, "roi_scale", scale, RoiSourceKind::noisy);
+  else if (kind != RoiSourceKind::detections && detector_recall != 1.0)
+    onlyFor(s, "detector_recall", detector_recall, RoiSourceKind::detections);
+  else if (kind != RoiSourceKind::detections && detector_false_positives != 0.0)
+    onlyFor(s, "detector_false_positives", detector_false_positives,
+            RoiSourceKind::detections);
   if (!s.str().empty())
     throw InvalidArgumentError(s.str());
 }
@@ -52,6 +74,8 @@ Roi RoiSource::apply(const Roi& given, std::uint64_t seed) const
   validate();
   if (kind == RoiSourceKind::oracle)
     return given;
+  if (kind == RoiSourceKind::detections)
+    return Roi(); // nothing detected yet
   Rng rng(seed);
   Roi roi;
   for (const Box& box : given.boxes()) {

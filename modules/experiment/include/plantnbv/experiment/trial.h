@@ -12,6 +12,7 @@
 
 #include <plantnbv/camera/camera_intrinsics.h>
 #include <plantnbv/camera/depth_image.h>
+#include <plantnbv/camera/detection.h>
 #include <plantnbv/common/box.h>
 #include <plantnbv/common/error.h>
 #include <plantnbv/common/memory_cap.h>
@@ -65,7 +66,11 @@ struct TrialConfig {
   PlannerKind planner = PlannerKind::nbv; ///< which planner chooses the views
   int pattern = 1;                        ///< predefined planner's pattern, 1-4
   /// What the planner attends to, from the attention ROI it is given (the plant's true
-  /// boxes in a trial): oracle (the paper's) or noisy, seeded from `seed`.
+  /// boxes in a trial): oracle (the paper's), noisy (seeded from `seed`), or detections:
+  /// a SimulatedDetector of the given quality finds the attention ROI's boxes in every
+  /// frame (class: the boxes' name without its number, "leaf_node"), and
+  /// DetectionFusion's boxes are the ROI of the next plan (empty before the first find:
+  /// every voxel counts).
   RoiSource roi_source;
   /// The cylindrical sector; its axis_base is replaced by the plant's base, so that the
   /// sector moves with the plant.
@@ -139,6 +144,9 @@ struct TrialFrame {
   int index = 0; ///< the view's index, 0 = v0
   Pose T_W_O;    ///< the camera's optical frame, exactly as integrated
   const DepthImage* depth = nullptr; ///< valid during the callback
+  /// The simulated detector's detections of the frame (roi_source detections), else
+  /// null; valid during the callback.
+  const std::vector<Detection>* detections = nullptr;
 };
 
 /// \brief The outcome of Trial::run.

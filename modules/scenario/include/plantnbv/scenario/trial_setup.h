@@ -36,7 +36,8 @@ struct Attention {
 /// \brief The planner name campaigns give an NBV planner: "nbv-leaf-nodes" for a kind
 /// (the paper's planner names), "nbv-<file stem>" for an ROI file; with a noisy ROI
 /// source, its sigma in millimetres and a scale other than 1 follow:
-/// "nbv-leaf-nodes-noisy10mm", "nbv-leaf-nodes-noisy0mm-x1.5".
+/// "nbv-leaf-nodes-noisy10mm", "nbv-leaf-nodes-noisy0mm-x1.5"; with detections, a recall
+/// other than 1 and false positives: "nbv-leaf-nodes-detections-recall0.8-fp2".
 std::string nbvPlannerName(const Attention& attention, const RoiSource& source = {});
 
 /// \brief The attention ROI on the placed plant. \throws InvalidArgumentError if the
@@ -62,12 +63,15 @@ void setCandidateCount(int candidates, const std::string& what, TrialConfig& con
 void fitSectorToPlant(const PlacedPlant& placed, std::optional<double> sector_height_m,
                       TrialConfig& config);
 
-/// \brief What `--roi-source`, `--roi-sigma` and `--roi-scale` (reconstruct, plan) and
-/// Python's roi_source, roi_sigma, roi_scale set over a config's RoiSource.
+/// \brief What `--roi-source`, `--roi-sigma`, `--roi-scale`, `--detector-recall` and
+/// `--detector-false-positives` (reconstruct; plan the first three) and Python's
+/// keywords of the same names set over a config's RoiSource.
 struct RoiSourceOverrides {
-  std::optional<std::string> source; ///< oracle, noisy (RoiSourceKind's names)
-  std::optional<double> sigma_m;     ///< RoiSource::sigma_m
-  std::optional<double> scale;       ///< RoiSource::scale
+  std::optional<std::string> source;              ///< oracle, noisy, detections
+  std::optional<double> sigma_m;                  ///< RoiSource::sigma_m
+  std::optional<double> scale;                    ///< RoiSource::scale
+  std::optional<double> detector_recall;          ///< RoiSource::detector_recall
+  std::optional<double> detector_false_positives; ///< per frame
 
   /// \brief Sets what is given over `roi` and validates it. Messages name the overrides
   /// as `option_prefix` + "roi-source" etc. (or the config keys without a prefix).

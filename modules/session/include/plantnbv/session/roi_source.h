@@ -3,7 +3,10 @@
 /// \brief Where the planner's attention ROI comes from (the paper, section 5.3: on a
 /// robot nobody knows the true boxes). `oracle` attends to the boxes it is given (a
 /// plant's true ROIs in a trial, an ROI file on a robot); `noisy` displaces each of them
-/// by a seeded Gaussian error, to measure what an ROI misplaced by a detector costs.
+/// by a seeded Gaussian error, to measure what an ROI misplaced by a detector costs;
+/// `detections` attends to what a detector finds, fused frame after frame
+/// (DetectionFusion; in a trial the detector is SimulatedDetector, of the quality given
+/// here).
 
 #include <cstdint>
 #include <string>
@@ -14,10 +17,12 @@ namespace plantnbv {
 
 /// \brief The kinds of ROI source.
 enum class RoiSourceKind {
-  oracle, ///< the given boxes as they are (the paper's study)
-  noisy,  ///< the given boxes, each moved by N(0, sigma^2) per axis and scaled
+  oracle,     ///< the given boxes as they are (the paper's study)
+  noisy,      ///< the given boxes, each moved by N(0, sigma^2) per axis and scaled
+  detections, ///< the 3D boxes of detections fused over the frames (DetectionFusion)
 };
-/// \brief "oracle" or "noisy" (the names configs, campaigns and the CLI use).
+/// \brief "oracle", "noisy" or "detections" (the names configs, campaigns and the CLI
+/// use).
 const char* roiSourceKindName(RoiSourceKind kind);
 /// \throws InvalidArgumentError naming the string and the accepted names.
 RoiSourceKind roiSourceKindFromName(const std::string& name);
@@ -25,23 +30,29 @@ RoiSourceKind roiSourceKindFromName(const std::string& name);
 /// \brief An ROI source and its parameters (trial configs: `roi_source`, `roi_sigma`,
 /// `roi_scale`; docs/trials.md).
 struct RoiSource {
-  RoiSourceKind kind = RoiSourceKind::oracle; ///< oracle (the default) or noisy
+  RoiSourceKind kind = RoiSourceKind::oracle; ///< oracle (the default), noisy, detections
   /// noisy: the standard deviation of each box centre's error along x, y and z (metres).
   double sigma_m = 0.0;
   /// noisy: the factor on every side of every box (1: the given size).
   double scale = 1.0;
+  /// detections, in trials: the simulated detector's recall (SimulatedDetector).
+  double detector_recall = 1.0;
+  /// detections, in trials: the simulated detector's false positives per frame.
+  double detector_false_positives = 0.0;
 
   /// \throws InvalidArgumentError for a negative or non-finite sigma, a scale that is
-  /// not finite and positive, or a sigma or scale other than 0 and 1 with the oracle
-  /// (which would ignore them). The message names the config keys (`roi_sigma`), or with
-  /// an `option_prefix` the options ("--" gives `--roi-sigma`).
+  /// not finite and positive, a recall outside [0, 1], false positives outside [0, 1000],
+  /// or a value set that the source does not use (a sigma with the oracle: it would be
+  /// ignored). The message names the config keys (`roi_sigma`), or with an
+  /// `option_prefix` the options ("--" gives `--roi-sigma`).
   void validate(const std::string& option_prefix = "") const;
 
   /// \brief The ROI the planner attends to, from the `given` boxes. oracle: `given`
   /// itself. noisy: box i's centre moved by sigma_m times three standard normal draws
   /// (x, y, z, box after box, from Rng(seed)), its sides times `scale`, its name kept.
-  /// sigma_m 0 and scale 1 give `given` exactly. \throws InvalidArgumentError as
-  /// validate().
+  /// sigma_m 0 and scale 1 give `given` exactly. detections: an empty ROI (nothing is
+  /// detected before the first frame; DetectionFusion gives the ROI after each).
+  /// \throws InvalidArgumentError as validate().
   Roi apply(const Roi& given, std::uint64_t seed) const;
 };
 
