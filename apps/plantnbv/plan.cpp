@@ -171,10 +171,11 @@ void runPlan(const PlanOptions& o)
   if (!o.current_pose.empty())
     current = parsePose(o.current_pose, "--current-pose");
   o.roi_source.applyTo(config.roi_source, "--");
-  if (config.roi_source.kind == RoiSourceKind::detections)
+  if (config.roi_source.followsFrames())
     throw InvalidArgumentError(
-        "--roi-source detections: plan attends to an ROI file; `plantnbv integrate "
-        "FRAMES --roi-out ROI.yaml` fuses a frames folder's detections into one");
+        std::string("--roi-source ") + roiSourceKindName(config.roi_source.kind) +
+        ": plan attends to an ROI file; `plantnbv integrate FRAMES --roi-out ROI.yaml` "
+        "fuses a frames folder's detections into one");
   const Roi roi = config.roi_source.apply(planRoi(o.roi, sector.axis_base),
                                           roiSourceSeed(config.seed));
 

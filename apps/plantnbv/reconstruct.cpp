@@ -127,6 +127,7 @@ nlohmann::json summaryJson(const ReconstructOptions& o, const PlacedPlant& place
         {"scale", c.roi_source.scale},
         {"detector_recall", c.roi_source.detector_recall},
         {"detector_false_positives", c.roi_source.detector_false_positives},
+        {"prior_internode", c.roi_source.prior_internode_m},
         {"seed", roiSourceSeed(c.seed)}}},
       {"views", c.views},
       {"candidates", c.grid_rows * c.grid_cols * c.samples_per_cell},

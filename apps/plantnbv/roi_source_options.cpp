@@ -13,7 +13,9 @@ void addRoiSourceOptions(CLI::App& cmd, scenario::RoiSourceOverrides& o,
                  "default), noisy (each box moved by a Gaussian error, seeded by " +
                      seed + ")" +
                      (simulated_detector
-                          ? ", or detections (a simulated detector's finds, fused)"
+                          ? ", detections (a simulated detector's finds, fused), prior "
+                            "(leaf nodes predicted along the stem in the map) or "
+                            "detections+prior"
                           : ""));
   cmd.add_option("--roi-sigma", o.sigma_m,
                  "noisy: standard deviation of each box centre's error per axis, metres");
@@ -26,6 +28,9 @@ void addRoiSourceOptions(CLI::App& cmd, scenario::RoiSourceOverrides& o,
                  "(default 1)");
   cmd.add_option("--detector-false-positives", o.detector_false_positives,
                  "detections: false detections per frame, on average (default 0)");
+  cmd.add_option("--prior-internode", o.prior_internode_m,
+                 "prior: distance between leaf nodes along the stem, metres (default "
+                 "0.04)");
 }
 
 } // namespace app

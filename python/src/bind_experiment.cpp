@@ -276,7 +276,8 @@ void bindExperiment(py::module_& m)
          std::optional<bool> noise, std::optional<bool> background,
          std::optional<std::string> roi_source, std::optional<double> roi_sigma,
          std::optional<double> roi_scale, std::optional<double> detector_recall,
-         std::optional<double> detector_false_positives, std::optional<Path> config,
+         std::optional<double> detector_false_positives,
+         std::optional<double> prior_internode, std::optional<Path> config,
          std::optional<Path> map_out, const py::object& progress) {
         scenario::TrialOverrides o;
         o.config_file = config ? config->string() : "";
@@ -291,8 +292,12 @@ void bindExperiment(py::module_& m)
         o.camera = camera;
         o.noise = noise;
         o.background = background;
-        o.roi = {roi_source, roi_sigma, roi_scale, detector_recall,
-                 detector_false_positives};
+        o.roi = {roi_source,
+                 roi_sigma,
+                 roi_scale,
+                 detector_recall,
+                 detector_false_positives,
+                 prior_internode};
         return runTrial(placed, planner, attention, o, map_out, progress);
       },
       "plant"_a, py::kw_only(), "planner"_a = "nbv", "attention"_a = "whole_plant",
@@ -302,17 +307,18 @@ void bindExperiment(py::module_& m)
       "camera"_a = py::none(), "noise"_a = py::none(), "background"_a = py::none(),
       "roi_source"_a = py::none(), "roi_sigma"_a = py::none(), "roi_scale"_a = py::none(),
       "detector_recall"_a = py::none(), "detector_false_positives"_a = py::none(),
-      "config"_a = py::none(), "map_out"_a = py::none(), "progress"_a = py::none(),
+      "prior_internode"_a = py::none(), "config"_a = py::none(), "map_out"_a = py::none(),
+      "progress"_a = py::none(),
       "One trial on a PlacedPlant, as `plantnbv reconstruct` runs it (the same seed "
       "gives "
       "the same steps): capture at v0, then plan, capture, integrate up to `views`, "
       "scored at every level after each view. `config` is a trial YAML (data/paper.yaml) "
       "that the other arguments override (`camera`, `noise`, `background`: the "
       "simulated sensor, as reconstruct's --intrinsics, --noise and --no-background; "
-      "`roi_source` 'oracle', 'noisy' or 'detections', `roi_sigma` (metres), "
-      "`roi_scale`, `detector_recall`, `detector_false_positives`: where the attended "
-      "ROI "
-      "comes from, as the options of the same names); "
+      "`roi_source` 'oracle', 'noisy', 'detections', 'prior' or 'detections+prior', "
+      "`roi_sigma` (metres), `roi_scale`, `detector_recall`, `detector_false_positives`, "
+      "`prior_internode` (metres): where the attended ROI comes from, as the options of "
+      "the same names); "
       "`progress(step)` is called after every view; "
       "`map_out` writes the final map (.ot or .bt).");
 

@@ -276,8 +276,8 @@ const std::vector<BadCall> kBadCalls = {
     {"reconstruct --plant 1 --config {d}/grid8.yaml --candidates 27 -o {d}/x", 1,
      "--candidates 27: expected a multiple of the 8 grid cells (8, 24, 40, ...)"},
     {"reconstruct --plant 1 --roi-source detector -o {d}/x", 1,
-     "--roi-source: unknown ROI source 'detector' (expected oracle, noisy or "
-     "detections)"},
+     "--roi-source: unknown ROI source 'detector' (expected oracle, noisy, "
+     "detections, prior or detections+prior)"},
     {"reconstruct --plant 1 --roi-sigma 0.01 -o {d}/x", 1,
      "--roi-sigma 0.01: only the noisy ROI source uses it (--roi-source is oracle)"},
     {"reconstruct --plant 1 --roi-source noisy --roi-sigma -0.01 -o {d}/x", 1,
@@ -287,8 +287,8 @@ const std::vector<BadCall> kBadCalls = {
     {"reconstruct --plant 1 --roi-source noisy --roi-sigma nan -o {d}/x", 1,
      "--roi-sigma nan: expected a finite value >= 0 (metres)"},
     {"reconstruct --plant 1 --detector-recall 0.5 -o {d}/x", 1,
-     "--detector-recall 0.5: only the detections ROI source uses it (--roi-source is "
-     "oracle)"},
+     "--detector-recall 0.5: only the detections and detections+prior ROI sources use "
+     "it (--roi-source is oracle)"},
     {"reconstruct --plant 1 --roi-source detections --detector-recall 1.5 -o {d}/x", 1,
      "--detector-recall 1.5: expected a value in [0, 1]"},
     {"reconstruct --plant 1 --roi-source detections --detector-false-positives -2 -o "
@@ -296,6 +296,13 @@ const std::vector<BadCall> kBadCalls = {
      1, "--detector-false-positives -2: expected a value in [0, 1000] per frame"},
     {"plan --map {d}/m.ot --roi-source detections", 1,
      "--roi-source detections: plan attends to an ROI file"},
+    {"plan --map {d}/m.ot --roi-source prior", 1,
+     "--roi-source prior: plan attends to an ROI file"},
+    {"reconstruct --plant 1 --roi-source noisy --prior-internode 0.05 -o {d}/x", 1,
+     "--prior-internode 0.05: only the prior and detections+prior ROI sources use it "
+     "(--roi-source is noisy)"},
+    {"reconstruct --plant 1 --roi-source prior --prior-internode 0 -o {d}/x", 1,
+     "--prior-internode 0: expected a finite value > 0 (metres)"},
     {"plan --map {d}/m.ot --detector-recall 0.5", 2, "--detector-recall"},
     {"integrate {d}/good -o {d}/m.ot --roi-out {d}/r.txt", 1,
      "--roi-out '{d}/r.txt': expected a file name ending in .yaml"},

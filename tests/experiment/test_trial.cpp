@@ -257,6 +257,48 @@ TEST(Trial, DetectionsFindTheLeafNodesAndWithoutFindsTheTrialExplores)
   expectSameSteps(explored, runTrial(plain, plant, Roi()));
 }
 
+TEST(Trial, ThePriorPredictsNodesOnTheStemAndAnchorsOnTheDetections)
+{
+  const auto plant = plantAt(2, 60.0);
+  const Roi nodes = leafNodeRoi(*plant);
+  TrialConfig config = smallConfig(PlannerKind::nbv, 3);
+  config.seed = 5;
+  config.roi_source.kind = RoiSourceKind::prior;
+  Trial trial(config);
+  trial.setPlant(plant);
+  trial.setAttentionRoi(nodes);
+  trial.setEvaluationLevels(levelsOf(*plant));
+  TrialResult result;
+  trial.run(result);
+  const Roi predicted = trial.getAttendedRoi();
+  ASSERT_GE(predicted.size(), 3u);
+  for (const Box& box : predicted.boxes()) {
+    EXPECT_EQ(box.name.rfind("leaf_node_prior_", 0), 0u) << box.name;
+    // On the stem: near the plant's vertical axis, above its base.
+    EXPECT_LT((box.center - plant->base_position).head<2>().norm(), 0.03);
+    EXPECT_GT(box.center.z(), plant->base_position.z());
+  }
+
+  // With detections, their boxes come first and the prediction keeps clear of them.
+  config.roi_source.kind = RoiSourceKind::detections_prior;
+  Trial both(config);
+  both.setPlant(plant);
+  both.setAttentionRoi(nodes);
+  both.setEvaluationLevels(levelsOf(*plant));
+  both.run(result);
+  const Roi& attended = both.getAttendedRoi();
+  std::vector<double> found;
+  for (const Box& box : attended.boxes())
+    if (box.name.rfind("leaf_node_prior_", 0) != 0)
+      found.push_back(box.center.z());
+    else
+      for (double z : found)
+        EXPECT_GT(std::abs(box.center.z() - z),
+                  0.5 * config.roi_source.prior_internode_m);
+  EXPECT_FALSE(found.empty());
+  EXPECT_GT(attended.size(), found.size());
+}
+
 TEST(Trial, RejectsABadConfigOrAMissingPlant)
 {
   TrialConfig c;

@@ -82,8 +82,8 @@ TEST_F(TrialConfigFile, ErrorsNameTheFileAndTheKeyPath)
   const std::string source = write("source.yaml", "roi_source: detector\n");
   EXPECT_EQ(errorOf([&] { scenario::loadTrialConfig(source, c); }),
             "'" + source +
-                "' roi_source: unknown ROI source 'detector' (expected oracle, noisy or "
-                "detections)");
+                "' roi_source: unknown ROI source 'detector' (expected oracle, noisy, "
+                "detections, prior or detections+prior)");
   const std::string sigma = write("sigma.yaml", "roi_sigma: 0.01\n");
   EXPECT_EQ(errorOf([&] { scenario::loadTrialConfig(sigma, c); }),
             "trial config: roi_sigma 0.01: only the noisy ROI source uses it (roi_source "

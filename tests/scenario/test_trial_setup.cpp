@@ -69,6 +69,15 @@ TEST(Attention, PlannerNamesKeepThePapersSpelling)
   detections.detector_false_positives = 2;
   EXPECT_EQ(nbvPlannerName(Attention::parse("leaf_nodes"), detections),
             "nbv-leaf-nodes-detections-recall0.8-fp2");
+  RoiSource prior;
+  prior.kind = RoiSourceKind::prior;
+  EXPECT_EQ(nbvPlannerName(Attention::parse("leaf_nodes"), prior),
+            "nbv-leaf-nodes-prior");
+  prior.kind = RoiSourceKind::detections_prior;
+  prior.detector_recall = 0.5;
+  prior.prior_internode_m = 0.05;
+  EXPECT_EQ(nbvPlannerName(Attention::parse("leaf_nodes"), prior),
+            "nbv-leaf-nodes-detections-prior-recall0.5-internode50mm");
 }
 
 TEST(TrialSetup, RoiSourceOverridesNameTheOptionAndAnOracleDropsAConfigsNoise)
@@ -93,8 +102,8 @@ TEST(TrialSetup, RoiSourceOverridesNameTheOptionAndAnOracleDropsAConfigsNoise)
               bad.source = "detector";
               bad.applyTo(r, "--");
             }),
-            "--roi-source: unknown ROI source 'detector' (expected oracle, noisy or "
-            "detections)");
+            "--roi-source: unknown ROI source 'detector' (expected oracle, noisy, "
+            "detections, prior or detections+prior)");
   // --roi-source noisy over a config's detector: its recall goes with it.
   RoiSource detecting;
   detecting.kind = RoiSourceKind::detections;
@@ -110,8 +119,8 @@ TEST(TrialSetup, RoiSourceOverridesNameTheOptionAndAnOracleDropsAConfigsNoise)
               bad.detector_recall = 0.5;
               bad.applyTo(r, "--");
             }),
-            "--detector-recall 0.5: only the detections ROI source uses it (--roi-source "
-            "is noisy)");
+            "--detector-recall 0.5: only the detections and detections+prior ROI sources "
+            "use it (--roi-source is noisy)");
   EXPECT_EQ(errorOf([] {
               RoiSource r;
               RoiSourceOverrides bad;

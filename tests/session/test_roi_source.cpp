@@ -47,8 +47,10 @@ TEST(RoiSource, NamesRoundTripAndAnUnknownOneIsRefusedNamingTheChoices)
     roiSourceKindFromName("detector");
     FAIL() << "accepted";
   } catch (const InvalidArgumentError& e) {
-    EXPECT_EQ(std::string(e.what()),
-              "unknown ROI source 'detector' (expected oracle, noisy or detections)");
+    EXPECT_EQ(
+        std::string(e.what()),
+        "unknown ROI source 'detector' (expected oracle, noisy, detections, prior or "
+        "detections+prior)");
   }
 }
 

@@ -16,6 +16,7 @@
 #include <plantnbv/sensor/simulated_depth_sensor.h>
 #include <plantnbv/sensor/simulated_detector.h>
 #include <plantnbv/session/detection_fusion.h>
+#include <plantnbv/session/leaf_node_prior.h>
 #include <plantnbv/session/memory_estimate.h>
 
 namespace plantnbv {
@@ -242,7 +243,7 @@ void Trial::run(TrialResult& result)
   session.setRoi(attended_);
   // The detections source: a detector of the config's quality finds the attention
   // ROI's boxes in each frame, and their fusion is what the next plan attends to.
-  const bool detecting = c.roi_source.kind == RoiSourceKind::detections;
+  const bool detecting = c.roi_source.detects();
   SimulatedDetector detector;
   DetectionFusion fusion;
   std::vector<Detection> detections;
@@ -260,6 +261,10 @@ void Trial::run(TrialResult& result)
     fusion_config.class_name = detector_config.class_name;
     fusion.setConfig(fusion_config);
   }
+  // The prior: leaf nodes along the stem the map shows, anchored on detected ones.
+  LeafNodePrior::Config prior_config;
+  prior_config.internode_m = c.roi_source.prior_internode_m;
+  const LeafNodePrior prior(prior_config);
   map_ = session.getMap();
   result.setup_ms = setup_clock.ms();
   auto checkTimeLimit = [&](const char* after) {
@@ -317,8 +322,6 @@ void Trial::run(TrialResult& result)
     if (detecting) { // the depth as integrated: a frames folder replays to this ROI
       detector.detect(frame, attention_, static_cast<std::uint64_t>(index), detections);
       fusion.addFrame(detections, depth, c.camera, T_W_O);
-      attended_ = fusion.getRoi();
-      session.setRoi(attended_);
     }
     if (frame_callback_) {
       TrialFrame record;
@@ -334,6 +337,19 @@ void Trial::run(TrialResult& result)
     step.occupied_voxels = occupied.size();
     evaluator.compute(occupied, step.scores);
     step.eval_ms = eval_clock.ms();
+    if (c.roi_source.followsFrames()) { // what the next view attends to
+      attended_ = detecting ? fusion.getRoi() : Roi();
+      if (c.roi_source.predicts()) {
+        std::vector<Eigen::Vector3d> anchors;
+        for (const Box& found : attended_.boxes())
+          anchors.push_back(found.center);
+        const Roi predicted =
+            prior.predict(occupied, sector_.axis_base, sector_.height_m, anchors);
+        for (const Box& box : predicted.boxes())
+          attended_.addBox(box);
+      }
+      session.setRoi(attended_);
+    }
 
     result.steps.push_back(step);
     if (callback_)

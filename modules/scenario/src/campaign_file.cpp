@@ -145,8 +145,7 @@ CampaignPlanner readPlanner(const YamlReader& r, const YAML::Node& node,
                 has_attention = true;
               }},
              {"roi_source", roiKey([&](const YAML::Node& n, const std::string& k) {
-                const std::string name =
-                    r.read<std::string>(n, k, "oracle, noisy or detections");
+                const std::string name = r.read<std::string>(n, k, "an ROI source name");
                 try {
                   roi_source.kind = roiSourceKindFromName(name);
                 } catch (const InvalidArgumentError& e) {
@@ -166,6 +165,9 @@ CampaignPlanner readPlanner(const YamlReader& r, const YAML::Node& node,
               roiKey([&](const YAML::Node& n, const std::string& k) {
                 roi_source.detector_false_positives =
                     r.read<double>(n, k, "a number (per frame)");
+              })},
+             {"prior_internode", roiKey([&](const YAML::Node& n, const std::string& k) {
+                roi_source.prior_internode_m = r.read<double>(n, k, "a number (metres)");
               })},
              {"patterns", [&](const YAML::Node& n, const std::string& k) {
                 planner.patterns = r.readList<int>(n, k, "patterns 1-4");

@@ -82,6 +82,7 @@ void readTrialConfig(const YamlReader& r, const YAML::Node& root, const std::str
        {"detector_recall", into(r, c.roi_source.detector_recall, number)},
        {"detector_false_positives",
         into(r, c.roi_source.detector_false_positives, number)},
+       {"prior_internode", into(r, c.roi_source.prior_internode_m, number)},
        {"stop_gain_bits", into(r, c.stop_gain_bits, number)},
        {"seed", into(r, c.seed, "a seed (integer >= 0)")},
        {"time_limit_s", into(r, c.time_limit_s, number)},

@@ -46,12 +46,16 @@ std::string nbvPlannerName(const Attention& attention, const RoiSource& source)
     s << "-noisy" << source.sigma_m * 1000.0 << "mm";
     if (source.scale != 1.0)
       s << "-x" << source.scale;
-  } else if (source.kind == RoiSourceKind::detections) {
-    s << "-detections";
+  } else if (source.followsFrames()) {
+    s << (source.kind == RoiSourceKind::detections ? "-detections"
+          : source.kind == RoiSourceKind::prior    ? "-prior"
+                                                   : "-detections-prior");
     if (source.detector_recall != 1.0)
       s << "-recall" << source.detector_recall;
     if (source.detector_false_positives != 0.0)
       s << "-fp" << source.detector_false_positives;
+    if (source.prior_internode_m != RoiSource().prior_internode_m)
+      s << "-internode" << source.prior_internode_m * 1000.0 << "mm";
   }
   name += s.str();
   return name;
@@ -132,10 +136,12 @@ void RoiSourceOverrides::applyTo(RoiSource& roi, const std::string& option_prefi
       roi.sigma_m = defaults.sigma_m;
       roi.scale = defaults.scale;
     }
-    if (roi.kind != RoiSourceKind::detections) {
+    if (!roi.detects()) {
       roi.detector_recall = defaults.detector_recall;
       roi.detector_false_positives = defaults.detector_false_positives;
     }
+    if (!roi.predicts())
+      roi.prior_internode_m = defaults.prior_internode_m;
   }
   if (sigma_m)
     roi.sigma_m = *sigma_m;
@@ -145,6 +151,8 @@ void RoiSourceOverrides::applyTo(RoiSource& roi, const std::string& option_prefi
     roi.detector_recall = *detector_recall;
   if (detector_false_positives)
     roi.detector_false_positives = *detector_false_positives;
+  if (prior_internode_m)
+    roi.prior_internode_m = *prior_internode_m;
   roi.validate(option_prefix);
 }
 

@@ -1,4 +1,5 @@
 #include <algorithm>
+#include <charconv>
 #include <cmath>
 #include <sstream>
 
@@ -10,7 +11,15 @@ namespace plantnbv {
 
 namespace {
 
-constexpr const char* kRoiSourceNames[] = {"oracle", "noisy", "detections"};
+/// The shortest text that reads back to `x` ("0.05", not "0.050000000000000003").
+std::string shortest(double x)
+{
+  char buffer[32];
+  return std::string(buffer, std::to_chars(buffer, buffer + sizeof(buffer), x).ptr);
+}
+
+constexpr const char* kRoiSourceNames[] = {"oracle", "noisy", "detections", "prior",
+                                           "detections+prior"};
 
 } // namespace
 
@@ -21,11 +30,12 @@ const char* roiSourceKindName(RoiSourceKind kind)
 
 RoiSourceKind roiSourceKindFromName(const std::string& name)
 {
-  for (int i = 0; i < 3; ++i)
+  for (int i = 0; i < 5; ++i)
     if (name == kRoiSourceNames[i])
       return static_cast<RoiSourceKind>(i);
   throw InvalidArgumentError("unknown ROI source '" + name +
-                             "' (expected oracle, noisy or detections)");
+                             "' (expected oracle, noisy, detections, prior or "
+                             "detections+prior)");
 }
 
 void RoiSource::validate(const std::string& option_prefix) const
@@ -36,35 +46,40 @@ void RoiSource::validate(const std::string& option_prefix) const
       std::replace(name.begin(), name.end(), '_', '-');
     return option_prefix + name;
   };
-  // A value that only `owner` uses, set with another source.
+  // A value that only the `owners` sources use, set with another source.
   auto onlyFor = [&](std::ostringstream& s, const char* name, double value,
-                     RoiSourceKind owner) {
-    s << key(name) << " " << value << ": only the " << roiSourceKindName(owner)
-      << " ROI source uses it (" << key("roi_source") << " is " << roiSourceKindName(kind)
-      << ")";
+                     const char* owners) {
+    s << key(name) << " " << shortest(value) << ": only the " << owners << " ROI source"
+      << (std::string(owners).find(" and ") == std::string::npos ? " uses" : "s use")
+      << " it (" << key("roi_source") << " is " << roiSourceKindName(kind) << ")";
   };
   std::ostringstream s;
-  s.precision(17);
   if (!(std::isfinite(sigma_m) && sigma_m >= 0.0))
-    s << key("roi_sigma") << " " << sigma_m << ": expected a finite value >= 0 (metres)";
+    s << key("roi_sigma") << " " << shortest(sigma_m)
+      << ": expected a finite value >= 0 (metres)";
   else if (!(std::isfinite(scale) && scale > 0.0))
-    s << key("roi_scale") << " " << scale << ": expected a finite value > 0";
+    s << key("roi_scale") << " " << shortest(scale) << ": expected a finite value > 0";
   else if (!(detector_recall >= 0.0 && detector_recall <= 1.0))
-    s << key("detector_recall") << " " << detector_recall
+    s << key("detector_recall") << " " << shortest(detector_recall)
       << ": expected a value in [0, 1]";
   else if (!(std::isfinite(detector_false_positives) && detector_false_positives >= 0.0 &&
              detector_false_positives <= 1000.0))
-    s << key("detector_false_positives") << " " << detector_false_positives
+    s << key("detector_false_positives") << " " << shortest(detector_false_positives)
       << ": expected a value in [0, 1000] per frame";
+  else if (!(std::isfinite(prior_internode_m) && prior_internode_m > 0.0))
+    s << key("prior_internode") << " " << shortest(prior_internode_m)
+      << ": expected a finite value > 0 (metres)";
   else if (kind != RoiSourceKind::noisy && sigma_m != 0.0)
-    onlyFor(s, "roi_sigma", sigma_m, RoiSourceKind::noisy);
+    onlyFor(s, "roi_sigma", sigma_m, "noisy");
   else if (kind != RoiSourceKind::noisy && scale != 1.0)
-    onlyFor(s, "roi_scale", scale, RoiSourceKind::noisy);
-  else if (kind != RoiSourceKind::detections && detector_recall != 1.0)
-    onlyFor(s, "detector_recall", detector_recall, RoiSourceKind::detections);
-  else if (kind != RoiSourceKind::detections && detector_false_positives != 0.0)
+    onlyFor(s, "roi_scale", scale, "noisy");
+  else if (!detects() && detector_recall != 1.0)
+    onlyFor(s, "detector_recall", detector_recall, "detections and detections+prior");
+  else if (!detects() && detector_false_positives != 0.0)
     onlyFor(s, "detector_false_positives", detector_false_positives,
-            RoiSourceKind::detections);
+            "detections and detections+prior");
+  else if (!predicts() && prior_internode_m != RoiSource().prior_internode_m)
+    onlyFor(s, "prior_internode", prior_internode_m, "prior and detections+prior");
   if (!s.str().empty())
     throw InvalidArgumentError(s.str());
 }
@@ -74,8 +89,8 @@ Roi RoiSource::apply(const Roi& given, std::uint64_t seed) const
   validate();
   if (kind == RoiSourceKind::oracle)
     return given;
-  if (kind == RoiSourceKind::detections)
-    return Roi(); // nothing detected yet
+  if (followsFrames())
+    return Roi(); // nothing seen yet
   Rng rng(seed);
   Roi roi;
   for (const Box& box : given.boxes()) {

@@ -70,7 +70,8 @@ struct TrialConfig {
   /// a SimulatedDetector of the given quality finds the attention ROI's boxes in every
   /// frame (class: the boxes' name without its number, "leaf_node"), and
   /// DetectionFusion's boxes are the ROI of the next plan (empty before the first find:
-  /// every voxel counts).
+  /// every voxel counts); prior: LeafNodePrior's boxes along the stem the map shows;
+  /// detections+prior: both, the prior anchored on the detections.
   RoiSource roi_source;
   /// The cylindrical sector; its axis_base is replaced by the plant's base, so that the
   /// sector moves with the plant.

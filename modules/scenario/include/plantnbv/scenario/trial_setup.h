@@ -37,7 +37,9 @@ struct Attention {
 /// (the paper's planner names), "nbv-<file stem>" for an ROI file; with a noisy ROI
 /// source, its sigma in millimetres and a scale other than 1 follow:
 /// "nbv-leaf-nodes-noisy10mm", "nbv-leaf-nodes-noisy0mm-x1.5"; with detections, a recall
-/// other than 1 and false positives: "nbv-leaf-nodes-detections-recall0.8-fp2".
+/// other than 1 and false positives: "nbv-leaf-nodes-detections-recall0.8-fp2"; with the
+/// prior, an internode other than the default: "nbv-leaf-nodes-prior-internode50mm",
+/// "nbv-leaf-nodes-detections-prior-recall0.5".
 std::string nbvPlannerName(const Attention& attention, const RoiSource& source = {});
 
 /// \brief The attention ROI on the placed plant. \throws InvalidArgumentError if the
@@ -63,15 +65,16 @@ void setCandidateCount(int candidates, const std::string& what, TrialConfig& con
 void fitSectorToPlant(const PlacedPlant& placed, std::optional<double> sector_height_m,
                       TrialConfig& config);
 
-/// \brief What `--roi-source`, `--roi-sigma`, `--roi-scale`, `--detector-recall` and
-/// `--detector-false-positives` (reconstruct; plan the first three) and Python's
-/// keywords of the same names set over a config's RoiSource.
+/// \brief What `--roi-source`, `--roi-sigma`, `--roi-scale`, `--detector-recall`,
+/// `--detector-false-positives` and `--prior-internode` (reconstruct; plan the first
+/// three) and Python's keywords of the same names set over a config's RoiSource.
 struct RoiSourceOverrides {
   std::optional<std::string> source;              ///< oracle, noisy, detections
   std::optional<double> sigma_m;                  ///< RoiSource::sigma_m
   std::optional<double> scale;                    ///< RoiSource::scale
   std::optional<double> detector_recall;          ///< RoiSource::detector_recall
   std::optional<double> detector_false_positives; ///< per frame
+  std::optional<double> prior_internode_m;        ///< RoiSource::prior_internode_m
 
   /// \brief Sets what is given over `roi` and validates it. Messages name the overrides
   /// as `option_prefix` + "roi-source" etc. (or the config keys without a prefix).

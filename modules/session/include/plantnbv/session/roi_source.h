@@ -6,7 +6,9 @@
 /// by a seeded Gaussian error, to measure what an ROI misplaced by a detector costs;
 /// `detections` attends to what a detector finds, fused frame after frame
 /// (DetectionFusion; in a trial the detector is SimulatedDetector, of the quality given
-/// here).
+/// here); `prior` to leaf nodes predicted one internode apart along the stem seen in the
+/// map (LeafNodePrior); `detections+prior` to both, the prediction anchored on the
+/// detected nodes.
 
 #include <cstdint>
 #include <string>
@@ -20,9 +22,11 @@ enum class RoiSourceKind {
   oracle,     ///< the given boxes as they are (the paper's study)
   noisy,      ///< the given boxes, each moved by N(0, sigma^2) per axis and scaled
   detections, ///< the 3D boxes of detections fused over the frames (DetectionFusion)
+  prior, ///< leaf-node boxes predicted along the stem seen in the map (LeafNodePrior)
+  detections_prior, ///< the detections' boxes and the prior's, anchored on them
 };
-/// \brief "oracle", "noisy" or "detections" (the names configs, campaigns and the CLI
-/// use).
+/// \brief "oracle", "noisy", "detections", "prior" or "detections+prior" (the names
+/// configs, campaigns and the CLI use).
 const char* roiSourceKindName(RoiSourceKind kind);
 /// \throws InvalidArgumentError naming the string and the accepted names.
 RoiSourceKind roiSourceKindFromName(const std::string& name);
@@ -39,6 +43,22 @@ struct RoiSource {
   double detector_recall = 1.0;
   /// detections, in trials: the simulated detector's false positives per frame.
   double detector_false_positives = 0.0;
+  /// prior: the distance between successive leaf nodes along the stem (metres;
+  /// LeafNodePrior's default, from the generator's plants).
+  double prior_internode_m = 0.04;
+
+  /// \brief True for the sources whose ROI follows the frames (detections, prior, both).
+  bool followsFrames() const { return kind >= RoiSourceKind::detections; }
+  /// \brief True for detections and detections+prior.
+  bool detects() const
+  {
+    return kind == RoiSourceKind::detections || kind == RoiSourceKind::detections_prior;
+  }
+  /// \brief True for prior and detections+prior.
+  bool predicts() const
+  {
+    return kind == RoiSourceKind::prior || kind == RoiSourceKind::detections_prior;
+  }
 
   /// \throws InvalidArgumentError for a negative or non-finite sigma, a scale that is
   /// not finite and positive, a recall outside [0, 1], false positives outside [0, 1000],
@@ -50,8 +70,9 @@ struct RoiSource {
   /// \brief The ROI the planner attends to, from the `given` boxes. oracle: `given`
   /// itself. noisy: box i's centre moved by sigma_m times three standard normal draws
   /// (x, y, z, box after box, from Rng(seed)), its sides times `scale`, its name kept.
-  /// sigma_m 0 and scale 1 give `given` exactly. detections: an empty ROI (nothing is
-  /// detected before the first frame; DetectionFusion gives the ROI after each).
+  /// sigma_m 0 and scale 1 give `given` exactly. The sources that follow the frames: an
+  /// empty ROI (nothing is seen before the first frame; DetectionFusion and
+  /// LeafNodePrior give the ROI after each).
   /// \throws InvalidArgumentError as validate().
   Roi apply(const Roi& given, std::uint64_t seed) const;
 };
