@@ -36,6 +36,7 @@ using plantnbv::io::readDetections;
 using plantnbv::io::saveMaskPng;
 using plantnbv::io::writeCameraInfo;
 using plantnbv::io::writeDetections;
+using plantnbv::test::readBytes;
 using plantnbv::test::TempDir;
 using plantnbv::test::thrownMessage;
 
@@ -78,26 +79,11 @@ void expectSame(const std::vector<Detection>& read, const std::vector<Detection>
   }
 }
 
-std::string readBytes(const std::string& path)
-{
-  std::ifstream in(path, std::ios::binary);
-  return std::string(std::istreambuf_iterator<char>(in),
-                     std::istreambuf_iterator<char>());
-}
-
-/// Writes an image with libpng's simplified API in `format`, every sample 1.
+/// An image in `format` with every sample 1.
 void writePng(const std::string& path, std::uint32_t width, std::uint32_t height,
               png_uint_32 format)
 {
-  png_image image{};
-  image.version = PNG_IMAGE_VERSION;
-  image.width = width;
-  image.height = height;
-  image.format = format;
-  std::vector<png_byte> pixels(PNG_IMAGE_SIZE(image), 1);
-  ASSERT_NE(png_image_write_to_file(&image, path.c_str(), 0, pixels.data(), 0, nullptr),
-            0)
-      << image.message;
+  plantnbv::test::writePng(path, width, height, format, 1);
 }
 
 /// One entry with `extra` appended inside it (", \"mask\": ...").

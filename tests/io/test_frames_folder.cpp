@@ -34,6 +34,7 @@ using plantnbv::io::readCameraInfo;
 using plantnbv::io::readTumFileList;
 using plantnbv::io::readTumTrajectory;
 using plantnbv::io::writeCameraInfo;
+using plantnbv::test::readBytes;
 using plantnbv::test::TempDir;
 using plantnbv::test::thrownMessage;
 
@@ -105,26 +106,11 @@ bool sameDepth(float a, float b)
   return (std::isnan(a) && std::isnan(b)) || a == b;
 }
 
-std::string readBytes(const std::string& path)
-{
-  std::ifstream in(path, std::ios::binary);
-  return std::string(std::istreambuf_iterator<char>(in),
-                     std::istreambuf_iterator<char>());
-}
-
-/// Writes an image with libpng's simplified API (PNG_FORMAT_GRAY, PNG_FORMAT_RGB).
+/// An image in `format` (PNG_FORMAT_GRAY, PNG_FORMAT_RGB) with every sample 128.
 void writePng(const std::string& path, std::uint32_t width, std::uint32_t height,
               png_uint_32 format)
 {
-  png_image image{};
-  image.version = PNG_IMAGE_VERSION;
-  image.width = width;
-  image.height = height;
-  image.format = format;
-  std::vector<png_byte> pixels(PNG_IMAGE_SIZE(image), 128);
-  ASSERT_NE(png_image_write_to_file(&image, path.c_str(), 0, pixels.data(), 0, nullptr),
-            0)
-      << image.message;
+  plantnbv::test::writePng(path, width, height, format, 128);
 }
 
 /// A frames folder with `camera.yaml` (smallCamera), one frame "depth/a.png" at 1 s (its

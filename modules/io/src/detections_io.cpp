@@ -127,18 +127,6 @@ std::string maskBytesProblem(std::uint64_t masks, std::uint32_t width,
          " (kMaxMaskBytesPerFrame)";
 }
 
-/// Whether `file` is a relative path that stays inside its folder.
-bool staysInside(const std::string& file)
-{
-  const fs::path p(file);
-  if (p.is_absolute() || p.has_root_name())
-    return false;
-  for (const fs::path& part : p)
-    if (part == "..")
-      return false;
-  return true;
-}
-
 void checkImageSize(const char* function, std::uint32_t width, std::uint32_t height)
 {
   if (width < 1 || width > kMaxImageSide || height < 1 || height > kMaxImageSide)
@@ -302,7 +290,7 @@ private:
     if (std::any_of(name.begin(), name.end(),
                     [](char c) { return static_cast<unsigned char>(c) < 0x20; }))
       fail(at, "expected a file name without control characters, got " + describe(v));
-    if (!staysInside(name))
+    if (!detail::staysInside(name))
       fail(at, inQuotes(name) +
                    " must be a path inside the JSON file's folder (relative, no '..')");
     const std::string mask_path = (fs::path(path_).parent_path() / name).string();

@@ -145,18 +145,6 @@ void readDistortion(const YamlReader& reader, const YAML::Node& node,
                    }}});
 }
 
-/// Whether `file` is a relative path that stays inside its folder.
-bool staysInside(const std::string& file)
-{
-  const fs::path p(file);
-  if (p.is_absolute() || p.has_root_name())
-    return false;
-  for (const fs::path& part : p)
-    if (part == "..")
-      return false;
-  return true;
-}
-
 std::string formatStamp(double stamp_s)
 {
   std::ostringstream s;
@@ -307,7 +295,7 @@ std::vector<StampedFile> readTumFileList(const std::string& path)
     f.stamp_s = finiteNumber(path, line, fields[0], "timestamp");
     f.file = fields[1];
     f.line = line;
-    if (!staysInside(f.file))
+    if (!detail::staysInside(f.file))
       failLine(path, line,
                "'" + f.file + "' must be a path inside the folder (relative, no '..')");
     files.push_back(f);

@@ -100,6 +100,17 @@ Eigen::Matrix3d upToZ(Up up)
   return r;
 }
 
+bool staysInside(const std::string& file)
+{
+  const std::filesystem::path p(file);
+  if (p.is_absolute() || p.has_root_name())
+    return false;
+  for (const std::filesystem::path& part : p)
+    if (part == "..")
+      return false;
+  return true;
+}
+
 } // namespace detail
 } // namespace io
 } // namespace plantnbv

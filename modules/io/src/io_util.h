@@ -33,6 +33,10 @@ std::string readFileToString(const std::string& path, const InputLimits& limits)
 /// header), so that a wrong file is not read whole into memory.
 bool readHeaderLine(const std::string& path, std::istream& in, std::string& line);
 
+/// Whether `file` is a relative path that stays inside its folder (not absolute, no
+/// ".." part): what a file list or a detection file may name.
+bool staysInside(const std::string& file);
+
 /// True on little-endian hosts (all we build for, but files are written portably).
 bool hostIsLittleEndian();
 
