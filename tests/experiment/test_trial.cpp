@@ -47,15 +47,23 @@ std::vector<EvaluationLevel> levelsOf(const Plant& plant)
           {"leaf_nodes", leafNodeRoi(plant), true}};
 }
 
+/// A trial on `plant` attending to `attention`, scored at levelsOf(plant), not run yet.
+std::unique_ptr<Trial> setUpTrial(const TrialConfig& config,
+                                  const std::shared_ptr<Plant>& plant,
+                                  const Roi& attention)
+{
+  auto trial = std::make_unique<Trial>(config);
+  trial->setPlant(plant);
+  trial->setAttentionRoi(attention);
+  trial->setEvaluationLevels(levelsOf(*plant));
+  return trial;
+}
+
 TrialResult runTrial(const TrialConfig& config, const std::shared_ptr<Plant>& plant,
                      const Roi& attention)
 {
-  Trial trial(config);
-  trial.setPlant(plant);
-  trial.setAttentionRoi(attention);
-  trial.setEvaluationLevels(levelsOf(*plant));
   TrialResult result;
-  trial.run(result);
+  setUpTrial(config, plant, attention)->run(result);
   return result;
 }
 
@@ -171,13 +179,10 @@ TEST(Trial, ANoisyRoiSourceWithSigmaZeroIsTheOracleBitForBit)
   const auto plant = plantAt(2, 60.0);
   TrialConfig config = smallConfig(PlannerKind::nbv, 4);
   config.seed = 3;
-  Trial oracle(config);
-  oracle.setPlant(plant);
-  oracle.setAttentionRoi(leafNodeRoi(*plant));
-  oracle.setEvaluationLevels(levelsOf(*plant));
+  const auto oracle = setUpTrial(config, plant, leafNodeRoi(*plant));
   TrialResult truth;
-  oracle.run(truth);
-  ASSERT_EQ(oracle.getAttendedRoi().size(), leafNodeRoi(*plant).size());
+  oracle->run(truth);
+  ASSERT_EQ(oracle->getAttendedRoi().size(), leafNodeRoi(*plant).size());
 
   config.roi_source.kind = RoiSourceKind::noisy;
   expectSameSteps(runTrial(config, plant, leafNodeRoi(*plant)), truth);
@@ -186,17 +191,14 @@ TEST(Trial, ANoisyRoiSourceWithSigmaZeroIsTheOracleBitForBit)
   // ones RoiSource::apply gives with roiSourceSeed), and so plans other views; the
   // evaluation levels stay the true ones.
   config.roi_source.sigma_m = 0.03;
-  Trial noisy(config);
-  noisy.setPlant(plant);
-  noisy.setAttentionRoi(leafNodeRoi(*plant));
-  noisy.setEvaluationLevels(levelsOf(*plant));
+  const auto noisy = setUpTrial(config, plant, leafNodeRoi(*plant));
   TrialResult moved;
-  noisy.run(moved);
+  noisy->run(moved);
   const Roi expected = config.roi_source.apply(leafNodeRoi(*plant), roiSourceSeed(3));
-  ASSERT_EQ(noisy.getAttendedRoi().size(), expected.size());
+  ASSERT_EQ(noisy->getAttendedRoi().size(), expected.size());
   for (std::size_t i = 0; i < expected.size(); ++i) {
-    EXPECT_EQ(noisy.getAttendedRoi().boxes()[i].center, expected.boxes()[i].center);
-    EXPECT_NE(noisy.getAttendedRoi().boxes()[i].center,
+    EXPECT_EQ(noisy->getAttendedRoi().boxes()[i].center, expected.boxes()[i].center);
+    EXPECT_NE(noisy->getAttendedRoi().boxes()[i].center,
               leafNodeRoi(*plant).boxes()[i].center);
   }
   EXPECT_EQ(moved.steps[0].scores[1].reference_points,
@@ -215,22 +217,19 @@ TEST(Trial, DetectionsFindTheLeafNodesAndWithoutFindsTheTrialExplores)
   TrialConfig config = smallConfig(PlannerKind::nbv, 4);
   config.seed = 5;
   config.roi_source.kind = RoiSourceKind::detections;
-  Trial trial(config);
-  trial.setPlant(plant);
-  trial.setAttentionRoi(nodes);
-  trial.setEvaluationLevels(levelsOf(*plant));
+  const auto trial = setUpTrial(config, plant, nodes);
   std::size_t frames_with_detections = 0;
-  trial.setFrameCallback([&](const TrialFrame& f) {
+  trial->setFrameCallback([&](const TrialFrame& f) {
     ASSERT_NE(f.detections, nullptr);
     for (const Detection& d : *f.detections)
       EXPECT_EQ(d.class_name, "leaf_node"); // the boxes' names, "leaf_node_<k>"
     frames_with_detections += !f.detections->empty();
   });
   TrialResult result;
-  trial.run(result);
+  trial->run(result);
   EXPECT_GT(frames_with_detections, 0u);
   // Each fused box lies on a true node: its centre within a node box grown by 1 cm.
-  const Roi& found = trial.getAttendedRoi();
+  const Roi& found = trial->getAttendedRoi();
   ASSERT_FALSE(found.empty());
   EXPECT_LE(found.size(), nodes.size());
   for (const Box& box : found.boxes()) {
@@ -245,13 +244,10 @@ TEST(Trial, DetectionsFindTheLeafNodesAndWithoutFindsTheTrialExplores)
   // A detector that finds nothing leaves the ROI empty: the planner attends to every
   // voxel, as a trial without an attention ROI does, step for step.
   config.roi_source.detector_recall = 0.0;
-  Trial blind(config);
-  blind.setPlant(plant);
-  blind.setAttentionRoi(nodes);
-  blind.setEvaluationLevels(levelsOf(*plant));
+  const auto blind = setUpTrial(config, plant, nodes);
   TrialResult explored;
-  blind.run(explored);
-  EXPECT_TRUE(blind.getAttendedRoi().empty());
+  blind->run(explored);
+  EXPECT_TRUE(blind->getAttendedRoi().empty());
   TrialConfig plain = smallConfig(PlannerKind::nbv, 4);
   plain.seed = 5;
   expectSameSteps(explored, runTrial(plain, plant, Roi()));
@@ -264,13 +260,10 @@ TEST(Trial, ThePriorPredictsNodesOnTheStemAndAnchorsOnTheDetections)
   TrialConfig config = smallConfig(PlannerKind::nbv, 3);
   config.seed = 5;
   config.roi_source.kind = RoiSourceKind::prior;
-  Trial trial(config);
-  trial.setPlant(plant);
-  trial.setAttentionRoi(nodes);
-  trial.setEvaluationLevels(levelsOf(*plant));
+  const auto trial = setUpTrial(config, plant, nodes);
   TrialResult result;
-  trial.run(result);
-  const Roi predicted = trial.getAttendedRoi();
+  trial->run(result);
+  const Roi predicted = trial->getAttendedRoi();
   ASSERT_GE(predicted.size(), 3u);
   for (const Box& box : predicted.boxes()) {
     EXPECT_EQ(box.name.rfind("leaf_node_prior_", 0), 0u) << box.name;
@@ -281,12 +274,9 @@ TEST(Trial, ThePriorPredictsNodesOnTheStemAndAnchorsOnTheDetections)
 
   // With detections, their boxes come first and the prediction keeps clear of them.
   config.roi_source.kind = RoiSourceKind::detections_prior;
-  Trial both(config);
-  both.setPlant(plant);
-  both.setAttentionRoi(nodes);
-  both.setEvaluationLevels(levelsOf(*plant));
-  both.run(result);
-  const Roi& attended = both.getAttendedRoi();
+  const auto both = setUpTrial(config, plant, nodes);
+  both->run(result);
+  const Roi& attended = both->getAttendedRoi();
   std::vector<double> found;
   for (const Box& box : attended.boxes())
     if (box.name.rfind("leaf_node_prior_", 0) != 0)
