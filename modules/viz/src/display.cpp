@@ -168,8 +168,11 @@ bool reexecUnderXvfbIfNeeded(int argc, char** argv)
   if (program.empty())
     return false;
 
-  std::vector<std::string> args = {xvfb_run, "-a", "-s", "-screen 0 1600x1200x24",
-                                   program};
+  // -noreset: an X server that resets when its last client leaves signals xvfb-run
+  // (SIGUSR1) again just as xvfb-run cleans up after the program, which can make
+  // xvfb-run fail its cleanup and exit 5 after a program that succeeded (seen in CI).
+  std::vector<std::string> args = {xvfb_run, "-a", "-s",
+                                   "-screen 0 1600x1200x24 -noreset", program};
   for (int i = 1; i < argc; ++i)
     args.emplace_back(argv[i] != nullptr ? argv[i] : "");
   std::vector<char*> c_args;
