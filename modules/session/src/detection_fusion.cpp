@@ -127,11 +127,10 @@ void DetectionFusion::addFrame(const std::vector<Detection>& detections,
     const Eigen::Vector3d centroid = sum / double(points.size());
     // The nearest instance within the association distance (ties: the first seen).
     std::size_t best = instances_.size();
-    double best_distance = config_.association_distance_m;
+    double best_distance = std::numeric_limits<double>::infinity();
     for (std::size_t k = 0; k < instances_.size(); ++k) {
       const double distance = (instances_[k].centroid_W - centroid).norm();
-      if (distance <= best_distance &&
-          (best == instances_.size() || distance < best_distance)) {
+      if (distance <= config_.association_distance_m && distance < best_distance) {
         best = k;
         best_distance = distance;
       }

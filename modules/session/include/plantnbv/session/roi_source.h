@@ -48,7 +48,7 @@ struct RoiSource {
   double prior_internode_m = 0.04;
 
   /// \brief True for the sources whose ROI follows the frames (detections, prior, both).
-  bool followsFrames() const { return kind >= RoiSourceKind::detections; }
+  bool followsFrames() const { return detects() || predicts(); }
   /// \brief True for detections and detections+prior.
   bool detects() const
   {
