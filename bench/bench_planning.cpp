@@ -10,15 +10,16 @@
 /// 20, 0 and 26 of the sampler's draw with seed 1, into a 3 mm OccupancyMap with the
 /// paper's parameters: maps after 1, 3 and 6 views. Candidates: the 27 of the paper's
 /// cylindrical sector (3 x 3 cells, 3 each) drawn with seed 42. ROIs: whole plant, main
-/// stem, leaf nodes (plant_rois.h). Gain: the default GainConfig (48 x 36 rays), and
-/// 64 x 48 rays (the grid of shared/notes/performance-findings.md) for comparison.
+/// stem, leaf nodes (plant_rois.h). Gain: the paper's (GainConfig::paper(), 48 x 36
+/// rays; docs/performance.md and docs/planning.md were measured with it), and 64 x 48
+/// rays (the grid of shared/notes/performance-findings.md) for comparison.
 ///
 /// gain/ours/...: one iteration = InformationGain::update() (the snapshot of the
 /// changed map) + compute() of the 27 candidates, the planning step's gain cost; counters
-/// update_ms and gain_ms split it. gain/reference/...: the 27 reference gains (OpenMP over
-/// candidates; at 64 x 48 rays only for the 3-view map, whole plant, 2 threads: it takes
-/// seconds). Counters of both: best_gain (bits) and best (index) of the arg max; for ours,
-/// max_rel_diff (largest relative difference to the reference over the 27),
+/// update_ms and gain_ms split it. gain/reference/...: the 27 reference gains (OpenMP
+/// over candidates; at 64 x 48 rays only for the 3-view map, whole plant, 2 threads: it
+/// takes seconds). Counters of both: best_gain (bits) and best (index) of the arg max;
+/// for ours, max_rel_diff (largest relative difference to the reference over the 27),
 /// voxels_differ (candidates whose voxels_seen differs) and same_choice (1 if the arg
 /// max is the reference's).
 ///
@@ -43,12 +44,12 @@
 #include <cstdint>
 #include <map>
 #include <memory>
+#include <omp.h>
 #include <string>
 #include <tuple>
 #include <vector>
 
 #include <benchmark/benchmark.h>
-#include <omp.h>
 #include <pcl/point_cloud.h>
 #include <pcl/point_types.h>
 
@@ -118,8 +119,8 @@ Roi benchRoi(RoiKind kind)
 }
 
 /// The reference gains (27 candidates), cached per map and ROI.
-const std::vector<ViewGain>& referenceGains(int views, RoiKind kind,
-                                            const GainConfig& config = GainConfig())
+const std::vector<ViewGain>&
+referenceGains(int views, RoiKind kind, const GainConfig& config = GainConfig::paper())
 {
   static std::map<std::tuple<int, int, int, int>, std::vector<ViewGain>> cache;
   auto& out = cache[{views, static_cast<int>(kind), config.rays_x, config.rays_y}];
@@ -145,7 +146,7 @@ std::size_t argMax(const std::vector<ViewGain>& gains)
 
 GainConfig gridConfig(int rays_x)
 {
-  GainConfig config;
+  GainConfig config = GainConfig::paper();
   config.rays_x = rays_x;
   config.rays_y = rays_x * 3 / 4;
   return config;
@@ -227,7 +228,7 @@ const std::vector<ViewGain>& studyGains(int views, RoiKind kind, int seed, int r
     InformationGain gain;
     gain.setInputMap(benchMap(views));
     gain.setRoi(benchRoi(kind));
-    GainConfig config;
+    GainConfig config = GainConfig::paper();
     config.rays_x = rays_x;
     config.rays_y = rays_x * 3 / 4;
     gain.setConfig(config);
@@ -274,7 +275,7 @@ double rankCorrelation(const std::vector<ViewGain>& a, const std::vector<ViewGai
 /// sets each, the choice with one ray grid against the finest grid's.
 void benchRayCount(benchmark::State& state, RoiKind kind, int rays_x)
 {
-  GainConfig config;
+  GainConfig config = GainConfig::paper();
   config.rays_x = rays_x;
   config.rays_y = rays_x * 3 / 4;
   InformationGain gain;
@@ -323,8 +324,7 @@ int main(int argc, char** argv)
   benchmark::Initialize(&argc, argv);
   if (benchmark::ReportUnrecognizedArguments(argc, argv))
     return 1;
-  const RoiKind kinds[] = {RoiKind::whole_plant, RoiKind::main_stem,
-                                RoiKind::leaf_nodes};
+  const RoiKind kinds[] = {RoiKind::whole_plant, RoiKind::main_stem, RoiKind::leaf_nodes};
   // The default grid (48 x 36) throughout; 64 x 48 (the grid of the figures in
   // shared/notes/performance-findings.md) for ours, and for the reference on one case.
   const int default_x = GainConfig().rays_x;
@@ -332,26 +332,26 @@ int main(int argc, char** argv)
     for (const int views : {1, 3, 6})
       for (const RoiKind kind : kinds)
         for (const int threads : {1, 2}) {
-          const std::string suffix = std::string("/") + roiName(kind) + "/views:" +
-                                     std::to_string(views) + "/rays:" +
-                                     std::to_string(rays_x) + "x" +
-                                     std::to_string(rays_x * 3 / 4) + "/threads:" +
-                                     std::to_string(threads);
-          benchmark::RegisterBenchmark(("gain/ours" + suffix).c_str(), benchOurs, views, kind,
-                                       threads, rays_x)
+          const std::string suffix =
+              std::string("/") + roiName(kind) + "/views:" + std::to_string(views) +
+              "/rays:" + std::to_string(rays_x) + "x" + std::to_string(rays_x * 3 / 4) +
+              "/threads:" + std::to_string(threads);
+          benchmark::RegisterBenchmark(("gain/ours" + suffix).c_str(), benchOurs, views,
+                                       kind, threads, rays_x)
               ->Unit(benchmark::kMillisecond)
               ->MinTime(0.5);
           if (rays_x == default_x ||
               (views == 3 && kind == RoiKind::whole_plant && threads == 2))
-            benchmark::RegisterBenchmark(("gain/reference" + suffix).c_str(), benchReference,
-                                         views, kind, threads, rays_x)
+            benchmark::RegisterBenchmark(("gain/reference" + suffix).c_str(),
+                                         benchReference, views, kind, threads, rays_x)
                 ->Unit(benchmark::kMillisecond)
                 ->Iterations(1);
         }
   for (const RoiKind kind : kinds)
     for (const int rays_x : {16, 24, 32, 48, 64, 96, 128, 160}) {
-      const std::string name = std::string("ray_count/") + roiName(kind) + "/rays:" +
-                               std::to_string(rays_x) + "x" + std::to_string(rays_x * 3 / 4);
+      const std::string name = std::string("ray_count/") + roiName(kind) +
+                               "/rays:" + std::to_string(rays_x) + "x" +
+                               std::to_string(rays_x * 3 / 4);
       benchmark::RegisterBenchmark(name.c_str(), benchRayCount, kind, rays_x)
           ->Unit(benchmark::kMillisecond)
           ->MinTime(1.0);

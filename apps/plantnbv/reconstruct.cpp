@@ -80,11 +80,13 @@ void writeSteps(const std::filesystem::path& path, const TrialResult& r)
 {
   AtomicFile file(path);
   std::ostream& out = file.stream();
-  out << "view,x,y,z,qx,qy,qz,qw,gain,candidates,plan_ms,capture_ms,insert_ms,eval_ms,"
-         "occupied_voxels";
+  out << "view,x,y,z,qx,qy,qz,qw,gain,unknown_seen,candidates,plan_ms,capture_ms,"
+         "insert_ms,eval_ms,occupied_voxels";
   for (const std::string& level : r.level_names)
     out << "," << level << "_precision," << level << "_recall," << level << "_f1,"
         << level << "_chamfer";
+  for (PartLabel organ : evaluatedOrgans())
+    out << ",recall_" << partLabelName(organ);
   out << "\n";
   for (const TrialStep& s : r.steps) {
     const Eigen::Quaterniond& q = s.view.orientation;
@@ -92,13 +94,15 @@ void writeSteps(const std::filesystem::path& path, const TrialResult& r)
     for (double x : {s.view.position.x(), s.view.position.y(), s.view.position.z(), q.x(),
                      q.y(), q.z(), q.w(), s.gain})
       out << "," << csvNumber(x);
-    out << "," << s.candidates;
+    out << "," << s.unknown_seen << "," << s.candidates;
     for (double x : {s.plan_ms, s.capture_ms, s.insert_ms, s.eval_ms})
       out << "," << std::fixed << std::setprecision(3) << x << std::defaultfloat;
     out << "," << s.occupied_voxels;
     for (const LevelScore& score : s.scores)
       for (double x : {score.precision, score.recall, score.f1, score.chamfer})
         out << "," << csvNumber(x);
+    for (const OrganRecall& organ : s.organs)
+      out << "," << csvNumber(organ.recall);
     out << "\n";
   }
   file.commit();
@@ -180,6 +184,13 @@ nlohmann::json summaryJson(const ReconstructOptions& o, const PlacedPlant& place
     };
   }
   j["levels"] = levels;
+  nlohmann::json organs = nlohmann::json::object();
+  for (const OrganRecall& o : r.steps.back().organs)
+    organs[partLabelName(o.organ)] = {{"final_recall", std::isfinite(o.recall)
+                                                           ? nlohmann::json(o.recall)
+                                                           : nlohmann::json(nullptr)},
+                                      {"reference_voxels", o.reference_points}};
+  j["organs"] = organs;
   // The boxes the planner attended to (the ROI source's output), beside the true ones.
   nlohmann::json attended = nlohmann::json::array();
   for (const Box& b : trial.getAttendedRoi().boxes())

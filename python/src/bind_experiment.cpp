@@ -49,11 +49,15 @@ py::dict stepDict(const TrialStep& s, const std::vector<std::string>& levels)
                  "chamfer"_a = x.chamfer, "reference_points"_a = x.reference_points,
                  "reconstruction_points"_a = x.reconstruction_points);
   }
+  py::dict organs;
+  for (const OrganRecall& o : s.organs)
+    organs[py::str(partLabelName(o.organ))] = o.recall;
   return py::dict("view"_a = s.index, "pose"_a = poseArray(s.view), "gain"_a = s.gain,
-                  "candidates"_a = s.candidates, "plan_ms"_a = s.plan_ms,
-                  "capture_ms"_a = s.capture_ms, "insert_ms"_a = s.insert_ms,
-                  "eval_ms"_a = s.eval_ms, "occupied_voxels"_a = s.occupied_voxels,
-                  "scores"_a = scores);
+                  "unknown_seen"_a = s.unknown_seen, "candidates"_a = s.candidates,
+                  "plan_ms"_a = s.plan_ms, "capture_ms"_a = s.capture_ms,
+                  "insert_ms"_a = s.insert_ms, "eval_ms"_a = s.eval_ms,
+                  "occupied_voxels"_a = s.occupied_voxels, "scores"_a = scores,
+                  "organ_recall"_a = organs);
 }
 
 /// The columns of `plantnbv reconstruct`'s steps.csv, one NumPy array each.
@@ -76,6 +80,7 @@ py::dict stepColumns(const TrialResult& r)
       return k < 3 ? s.view.position[k] : s.view.orientation.coeffs()[k - 3];
     });
   column("gain", [](const TrialStep& s) { return s.gain; });
+  column("unknown_seen", [](const TrialStep& s) { return std::int64_t(s.unknown_seen); });
   column("candidates", [](const TrialStep& s) { return std::int64_t(s.candidates); });
   column("plan_ms", [](const TrialStep& s) { return s.plan_ms; });
   column("capture_ms", [](const TrialStep& s) { return s.capture_ms; });
@@ -90,6 +95,9 @@ py::dict stepColumns(const TrialResult& r)
     column(n + "_f1", [l](const TrialStep& s) { return s.scores[l].f1; });
     column(n + "_chamfer", [l](const TrialStep& s) { return s.scores[l].chamfer; });
   }
+  for (std::size_t o = 0; o < evaluatedOrgans().size(); ++o)
+    column(std::string("recall_") + partLabelName(evaluatedOrgans()[o]),
+           [o](const TrialStep& s) { return s.organs[o].recall; });
   return out;
 }
 
@@ -232,7 +240,8 @@ void bindExperiment(py::module_& m)
             return steps;
           },
           "A dict per view: view, pose (7,), gain, candidates, timings, occupied_voxels, "
-          "scores {level: {precision, recall, f1, chamfer, ...}}.")
+          "scores {level: {precision, recall, f1, chamfer, ...}}, organ_recall {organ: "
+          "the whole plant's recall of it, NaN if the plant has none}.")
       .def(
           "columns", [](const TrialRun& r) { return stepColumns(r.result); },
           "The steps as {column: array}, the columns of reconstruct's steps.csv "

@@ -346,13 +346,18 @@ void bindPlanners(py::module_& m)
       m, "NbvPlanner",
       "The attention-driven NBV planner (the paper's Algorithm 1): the candidate with "
       "the most expected information inside the ROI.")
-      .def(py::init([](double stop_gain_bits, double travel_cost_weight) {
+      .def(py::init([](double stop_gain_bits, double travel_cost_weight,
+                       double view_spacing_m) {
              auto p = std::make_shared<AttentionNbvPlanner>();
              p->setStopGain(stop_gain_bits);
              p->setTravelCostWeight(travel_cost_weight);
+             p->setViewSpacing(view_spacing_m);
              return p;
            }),
-           "stop_gain_bits"_a = 0.0, "travel_cost_weight"_a = 0.0);
+           "stop_gain_bits"_a = 0.0, "travel_cost_weight"_a = 0.0,
+           "view_spacing_m"_a = kDefaultViewSpacingM,
+           "view_spacing_m: a candidate closer than this to a frame's position is chosen "
+           "only if every candidate is (0: the paper's planner).");
   py::class_<PredefinedPlanner, ViewPlanner, std::shared_ptr<PredefinedPlanner>>(
       m, "PredefinedPlanner",
       "The pre-defined baseline: the grid-cell centres in one of four orders (1-4).")
@@ -445,6 +450,14 @@ void bindSession(py::module_& m)
           [](const Config& c) { return c.gain.visibility_weighted; },
           [](Config& c, bool v) { c.gain.visibility_weighted = v; })
       .def_property(
+          "unknown_only", [](const Config& c) { return c.gain.unknown_only; },
+          [](Config& c, bool v) { c.gain.unknown_only = v; },
+          "Count only unknown voxels (True); False: the paper's entropy of every voxel.")
+      .def_property(
+          "unknown_depth", [](const Config& c) { return c.gain.unknown_depth; },
+          [](Config& c, int v) { c.gain.unknown_depth = v; },
+          "Unknown ROI voxels one ray may count (3; 0: no limit, the paper's).")
+      .def_property(
           "resolution_m", [](const Config& c) { return c.map.resolution_m; },
           [](Config& c, double v) { c.map.resolution_m = v; }, "map.resolution_m")
       .def_property(
@@ -467,8 +480,10 @@ void bindSession(py::module_& m)
       m, "Session",
       "The active-vision loop of a robot: integrate depth frames with their poses, set "
       "the ROI, ask for the next-best view. Keyword arguments are SessionConfig's "
-      "fields (or config=SessionConfig()). Defaults: the paper's map, sector and NBV "
-      "planner, the L515 at 640 x 480, no ROI.")
+      "fields (or config=SessionConfig()). Defaults: the paper's map and sector, "
+      "plantnbv's NBV planner (unknown voxels, views 0.2 m apart; unknown_only=False, "
+      "unknown_depth=0 and NbvPlanner(view_spacing_m=0) give the paper's), the L515 at "
+      "640 x 480, no ROI.")
       .def(py::init([](std::optional<Config> config, const py::kwargs& kwargs) {
              py::object c = py::cast(config ? *config : Config());
              applyKeywords(c, kwargs, "Session");

@@ -43,6 +43,7 @@ def test_a_trial_equals_reconstruct_with_the_same_seed(placed, cli, tmp_path, pl
     np.testing.assert_array_equal(result.f1_curve(attention), tool[attention + "_f1"])
     step = result.steps[1]
     assert step["scores"][attention]["f1"] == tool[attention + "_f1"][1]
+    assert step["organ_recall"]["stem"] == tool["recall_stem"][1] > 0.0
     assert step["pose"].shape == (7,) and step["candidates"] in (9, 27)
 
 

@@ -366,9 +366,12 @@ TEST(CampaignChunks, ChunksPartitionTheTrials)
 namespace {
 
 /// A trial file as a person would write it: F1 and Chamfer per view for one level.
+/// A trial file by hand; `organs`, if given, holds per view the text of its "organs"
+/// object.
 void writeTrial(const fs::path& dir, const std::string& planner, int pattern,
                 const std::string& plant, const std::vector<double>& f1,
-                const std::vector<std::string>& chamfer)
+                const std::vector<std::string>& chamfer,
+                const std::vector<std::string>& organs = {})
 {
   const std::string id = "main/" + planner +
                          (pattern ? "-p" + std::to_string(pattern) : "") + "/" + plant +
@@ -384,7 +387,8 @@ void writeTrial(const fs::path& dir, const std::string& planner, int pattern,
   for (std::size_t v = 0; v < f1.size(); ++v)
     out << (v ? ", " : "")
         << "{\"levels\": {\"whole_plant\": {\"precision\": 1, \"recall\": " << f1[v]
-        << ", \"f1\": " << f1[v] << ", \"chamfer\": " << chamfer[v] << "}}}";
+        << ", \"f1\": " << f1[v] << ", \"chamfer\": " << chamfer[v] << "}}"
+        << (organs.empty() ? "" : ", \"organs\": " + organs[v]) << "}";
   out << "]}\n";
 }
 
@@ -453,6 +457,35 @@ TEST_F(CampaignResultsTest, ReportCurvesOfAHandMadeResultsDirectory)
   // is undefined (2 views): shown as "-".
   EXPECT_NE(summary.find("| nbv-a | 3 | - / - (median >2 / >2) |"), std::string::npos)
       << summary;
+}
+
+TEST_F(CampaignResultsTest, ReportTablesTheRecallPerOrganOfTheOrgansThePlantsHave)
+{
+  fs::create_directories(dir_ / "trials");
+  auto organs = [](double stem, double leaflet) {
+    std::ostringstream s;
+    s << "{\"stem\": " << stem << ", \"petiole\": null, \"leaflet\": " << leaflet
+      << ", \"peduncle\": null, \"fruit\": null}";
+    return s.str();
+  };
+  const std::vector<double> f1 = {0.1, 0.2, 0.3, 0.4};
+  const std::vector<std::string> chamfer(4, "0.01");
+  writeTrial(dir_, "nbv-a", 0, "p1", f1, chamfer,
+             {organs(0.1, 0.1), organs(0.3, 0.1), organs(0.5, 0.2), organs(0.7, 0.4)});
+  writeTrial(dir_, "nbv-a", 0, "p2", f1, chamfer,
+             {organs(0.1, 0.1), organs(0.3, 0.1), organs(0.7, 0.2), organs(0.9, 0.2)});
+  writeTrial(dir_, "random", 0, "p1", f1, chamfer); // a file without organ recall
+  const std::vector<StoredTrial> trials = ResultStore(dir_).load();
+  for (const StoredTrial& t : trials)
+    ASSERT_EQ(t.organ_recall.size(), t.planner == "random" ? 0u : 4u) << t.id;
+  writeCampaignReport(trials, dir_ / "report", "organs");
+  const std::string summary = slurp(dir_ / "report" / "summary.md");
+  // After 3 views: stem (0.5 + 0.7) / 2, leaflet 0.2; after the last: 0.8 and 0.3. The
+  // organs no plant has get no column.
+  EXPECT_NE(summary.find("| planner | stem | leaflet |\n"), std::string::npos) << summary;
+  EXPECT_NE(summary.find("| nbv-a | 0.600 / 0.800 | 0.200 / 0.300 |"), std::string::npos)
+      << summary;
+  EXPECT_NE(summary.find("| random | - / - | - / - |"), std::string::npos) << summary;
 }
 
 TEST_F(CampaignResultsTest, ReportListsOnlyThePaperRowsThatRanAndNoEmptySection)

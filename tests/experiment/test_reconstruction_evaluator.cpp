@@ -112,6 +112,58 @@ TEST(ReconstructionEvaluator, ScoresLevelsAndAveragesBoxes)
   EXPECT_TRUE(std::isnan(scores[1].chamfer));
 }
 
+TEST(ReconstructionEvaluator, RecallPerOrganCountsAVoxelForEveryOrganInIt)
+{
+  // A stem square (x voxels 0-19) and a fruit square from x = 5.85 cm (voxels 19-39):
+  // voxel column 19 holds both.
+  Plant plant = squarePlant(0.0105);
+  const TriangleMesh stem = plant.mesh;
+  for (Eigen::Vector3f v : stem.vertices) {
+    v.x() += 0.0585f;
+    plant.mesh.vertices.push_back(v);
+  }
+  plant.mesh.triangles.push_back({4, 5, 6});
+  plant.mesh.triangles.push_back({4, 6, 7});
+  plant.mesh.labels = {PartLabel::stem, PartLabel::stem, PartLabel::fruit,
+                       PartLabel::fruit};
+  ReconstructionEvaluator evaluator;
+  evaluator.setGroundTruth(plant);
+  ASSERT_EQ(evaluator.getGroundTruth().size(), 40u * 20u);
+
+  CloudXYZ left; // voxel columns 0-9: half of the stem
+  for (const auto& p : evaluator.getGroundTruth())
+    if (p.x < 0.03f)
+      left.push_back(p);
+  std::vector<OrganRecall> organs;
+  evaluator.computeOrganRecall(left, organs);
+  ASSERT_EQ(organs.size(), evaluatedOrgans().size());
+  ASSERT_EQ(organs.size(), 5u);
+  for (std::size_t o = 0; o < organs.size(); ++o) {
+    const OrganRecall& r = organs[o];
+    EXPECT_EQ(r.organ, evaluatedOrgans()[o]);
+    if (r.organ == PartLabel::stem) {
+      EXPECT_EQ(r.reference_points, 20u * 20u);
+      EXPECT_DOUBLE_EQ(r.recall, 0.5);
+    } else if (r.organ == PartLabel::fruit) {
+      EXPECT_EQ(r.reference_points, 21u * 20u);
+      EXPECT_EQ(r.recall, 0.0);
+    } else {
+      EXPECT_EQ(r.reference_points, 0u);
+      EXPECT_TRUE(std::isnan(r.recall)) << partLabelName(r.organ);
+    }
+  }
+  evaluator.computeOrganRecall(evaluator.getGroundTruth(), organs);
+  EXPECT_EQ(organs[0].recall, 1.0); // stem
+  EXPECT_EQ(organs[4].recall, 1.0); // fruit
+
+  // Without labels every organ is missing.
+  plant.mesh.labels.clear();
+  evaluator.setGroundTruth(plant);
+  evaluator.computeOrganRecall(evaluator.getGroundTruth(), organs);
+  for (const OrganRecall& r : organs)
+    EXPECT_EQ(r.reference_points, 0u);
+}
+
 TEST(ReconstructionEvaluator, LeavesTheBackgroundsVoxelsOut)
 {
   // A support whose top face (z = 0) is the bottom face of the box, as in the default

@@ -78,6 +78,10 @@ void expectSameSteps(const TrialResult& a, const TrialResult& b)
     EXPECT_EQ(s.view.orientation.coeffs(), t.view.orientation.coeffs()) << i;
     EXPECT_TRUE(s.gain == t.gain || (std::isnan(s.gain) && std::isnan(t.gain))) << i;
     EXPECT_EQ(s.occupied_voxels, t.occupied_voxels) << i;
+    ASSERT_EQ(s.organs.size(), t.organs.size());
+    for (std::size_t o = 0; o < s.organs.size(); ++o)
+      EXPECT_TRUE(s.organs[o].recall == t.organs[o].recall ||
+                  (std::isnan(s.organs[o].recall) && std::isnan(t.organs[o].recall)));
     ASSERT_EQ(s.scores.size(), t.scores.size());
     for (std::size_t l = 0; l < s.scores.size(); ++l) {
       EXPECT_EQ(s.scores[l].f1, t.scores[l].f1) << i;
@@ -103,6 +107,9 @@ TEST(Trial, StartsAtV0MovedWithThePlantAndScoresEveryView)
   for (std::size_t i = 0; i < r.steps.size(); ++i) {
     EXPECT_EQ(r.steps[i].index, int(i));
     ASSERT_EQ(r.steps[i].scores.size(), 2u);
+    ASSERT_EQ(r.steps[i].organs.size(), evaluatedOrgans().size());
+    EXPECT_GT(r.steps[i].organs[0].recall, 0.0); // the stem, seen from v0 on
+    EXPECT_GT(r.steps[i].organs[0].reference_points, 0u);
     EXPECT_GT(r.steps[i].occupied_voxels, 0u);
     EXPECT_GT(r.steps[i].scores[0].f1, 0.0);
     if (i > 0) {
@@ -110,6 +117,8 @@ TEST(Trial, StartsAtV0MovedWithThePlantAndScoresEveryView)
       EXPECT_GT(r.steps[i].gain, 0.0);
       // More views, more of the plant: the map only grows here (no noise).
       EXPECT_GE(r.steps[i].scores[0].recall, r.steps[i - 1].scores[0].recall);
+      for (std::size_t o = 0; o < r.steps[i].organs.size(); ++o)
+        EXPECT_FALSE(r.steps[i].organs[o].recall < r.steps[i - 1].organs[o].recall);
     }
   }
 }

@@ -146,6 +146,7 @@ TrialResult referenceTrial(const TrialConfig& c, const Plant& plant, const Roi& 
   map->setNumberOfThreads(c.threads);
   AttentionNbvPlanner planner;
   planner.setStopGain(c.stop_gain_bits);
+  planner.setViewSpacing(c.view_spacing_m);
   planner.setInputMap(map);
   planner.setCandidateSampler(sampler);
   planner.setRoi(attention);
@@ -178,6 +179,7 @@ TrialResult referenceTrial(const TrialConfig& c, const Plant& plant, const Roi& 
     sensor.setFrameIndex(static_cast<std::uint64_t>(index));
     sensor.capture(view, frame);
     map->insert(frame, view.position);
+    planner.addVisitedPosition(view.position);
     map->getOccupiedVoxelCentres(occupied);
     step.occupied_voxels = occupied.size();
     evaluator.compute(occupied, step.scores);

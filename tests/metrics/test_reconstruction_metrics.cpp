@@ -307,6 +307,13 @@ TEST(ReconstructionMetrics, NonFinitePointsAreIgnored)
                       "R to T");
   expectSameDistances(bruteForce(*reference_dirty, *reconstruction_dirty), t_to_r,
                       "T to R");
+  std::vector<double> t_to_r_only = {1.0};
+  metrics.computeDistances(t_to_r_only); // one direction: the same values
+  ASSERT_EQ(t_to_r_only.size(), t_to_r.size());
+  for (std::size_t i = 0; i < t_to_r.size(); ++i)
+    EXPECT_TRUE(t_to_r_only[i] == t_to_r[i] ||
+                (std::isnan(t_to_r_only[i]) && std::isnan(t_to_r[i])))
+        << i;
 }
 
 TEST(ReconstructionMetrics, ResultDoesNotDependOnThreadCount)

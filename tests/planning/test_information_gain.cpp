@@ -49,6 +49,7 @@ std::vector<ViewGain> fastGains(std::shared_ptr<const OccupancyMap> map, const R
                                 const std::vector<Viewpoint>& views, int threads)
 {
   InformationGain gain;
+  gain.setConfig(GainConfig::paper());
   gain.setInputMap(std::move(map));
   gain.setRoi(roi);
   gain.setConfig(config);
@@ -81,6 +82,22 @@ void expectSameGains(const std::vector<ViewGain>& fast, const std::vector<ViewGa
   }
 }
 
+/// A line of voxels along x (keys kLineK0 + i, centres at y = kLineY, z = kLineZ): a
+/// frame seen from voxel 0 with a hit in voxel 5 made voxels 0-4 free (p 0.4 after one
+/// miss) and voxel 5 occupied (p 0.7); the others are unknown.
+const int kLineK0 = 32768 + 200;
+const double kLineY = centre(32768 + 10), kLineZ = centre(32768 + 20);
+
+std::shared_ptr<OccupancyMap> lineWithAHitAt5()
+{
+  auto map = std::make_shared<OccupancyMap>();
+  CloudXYZ hit;
+  hit.push_back(pcl::PointXYZ(static_cast<float>(centre(kLineK0 + 5)),
+                              static_cast<float>(kLineY), static_cast<float>(kLineZ)));
+  map->insert(hit, Eigen::Vector3d(centre(kLineK0), kLineY, kLineZ));
+  return map;
+}
+
 } // namespace
 
 TEST(InformationGain, OccupancyEntropyValues)
@@ -101,7 +118,7 @@ TEST(InformationGain, UnknownMapGainCountsTheDistinctFrustumVoxelsInTheRoi)
   const auto map = std::make_shared<const OccupancyMap>();
   const Viewpoint view = lookingAlong(Eigen::Vector3d(0.61, 0.02, 1.1), 0.1);
   const Roi roi({Box(Eigen::Vector3d(1.0, 0.0, 1.15), Eigen::Vector3d(0.3, 0.3, 0.7))});
-  GainConfig config;
+  GainConfig config = GainConfig::paper();
   config.rays_x = 40;
   config.rays_y = 30;
 
@@ -136,6 +153,7 @@ TEST(InformationGain, UnknownMapGainCountsTheDistinctFrustumVoxelsInTheRoi)
   ASSERT_GT(voxels.size(), 10000u);
 
   InformationGain gain;
+  gain.setConfig(GainConfig::paper());
   gain.setInputMap(map);
   gain.setRoi(roi);
   gain.setConfig(config);
@@ -155,13 +173,14 @@ TEST(InformationGain, CandidateLookingAwayFromTheRoiGainsNothing)
   const auto map = std::make_shared<const OccupancyMap>();
   const Roi roi({Box(Eigen::Vector3d(1.0, 0.0, 1.15), Eigen::Vector3d(0.3, 0.3, 0.7))});
   InformationGain gain;
+  gain.setConfig(GainConfig::paper());
   gain.setInputMap(map);
   gain.setRoi(roi);
   const ViewGain away = gain.compute(lookingAlong(Eigen::Vector3d(0.6, 0.0, 1.1), M_PI));
   EXPECT_EQ(away.gain, 0.0);
   EXPECT_EQ(away.voxels_seen, 0u);
   EXPECT_EQ(away.rays_cast, 0u);
-  EXPECT_EQ(referenceInformationGain(*map, roi, GainConfig(),
+  EXPECT_EQ(referenceInformationGain(*map, roi, GainConfig::paper(),
                                      lookingAlong(Eigen::Vector3d(0.6, 0.0, 1.1), M_PI))
                 .gain,
             0.0);
@@ -181,6 +200,7 @@ TEST(InformationGain, AnRoiOutOfEveryCandidatesReachGainsNothingHoweverFar)
       test::paperV0(),
       lookingAlong(Eigen::Vector3d(49.95 - 0.76 - 2 * kRes, 50.0, 50.0), 0.0)};
   InformationGain gain;
+  gain.setConfig(GainConfig::paper());
   gain.setInputMap(map);
   gain.setRoi(roi);
   std::vector<ViewGain> out;
@@ -190,8 +210,9 @@ TEST(InformationGain, AnRoiOutOfEveryCandidatesReachGainsNothingHoweverFar)
     EXPECT_EQ(out[i].gain, 0.0) << i;
     EXPECT_EQ(out[i].voxels_seen, 0u) << i;
     EXPECT_EQ(out[i].rays_cast, 0u) << i;
-    EXPECT_EQ(referenceInformationGain(*map, roi, GainConfig(), views[i]).voxels_seen,
-              0u);
+    EXPECT_EQ(
+        referenceInformationGain(*map, roi, GainConfig::paper(), views[i]).voxels_seen,
+        0u);
   }
   EXPECT_EQ(gain.getLastStats().rays_cast, 0u);
 }
@@ -205,6 +226,8 @@ TEST(InformationGain, AFarBoxOfAnRoiChangesNoGainAndNoSnapshot)
   const Box far(Eigen::Vector3d(50.0, 50.0, 50.0), Eigen::Vector3d(0.1, 0.1, 0.1));
   const std::vector<Viewpoint> views = {test::paperV0()};
   InformationGain both, alone;
+  both.setConfig(GainConfig::paper());
+  alone.setConfig(GainConfig::paper());
   both.setInputMap(map);
   alone.setInputMap(map);
   both.setRoi(Roi({near, far}));
@@ -219,7 +242,8 @@ TEST(InformationGain, AFarBoxOfAnRoiChangesNoGainAndNoSnapshot)
   EXPECT_EQ(both.getLastStats().bricks, alone.getLastStats().bricks);
   EXPECT_NEAR(
       a[0].gain,
-      referenceInformationGain(*map, Roi({near, far}), GainConfig(), views[0]).gain,
+      referenceInformationGain(*map, Roi({near, far}), GainConfig::paper(), views[0])
+          .gain,
       1e-6 * a[0].gain);
   // The same candidates again: the snapshot is reused.
   both.compute(views, a);
@@ -234,15 +258,17 @@ TEST(InformationGain, VoxelsBehindAWallDoNotCount)
   const Roi behind({Box(Eigen::Vector3d(1.1, 0.0, 1.1), Eigen::Vector3d(0.2, 0.2, 0.2))});
   const Roi before({Box(Eigen::Vector3d(0.8, 0.0, 1.1), Eigen::Vector3d(0.1, 0.1, 0.1))});
   const Roi across({Box(Eigen::Vector3d(0.9, 0.0, 1.1), Eigen::Vector3d(0.1, 0.1, 0.1))});
-  const GainConfig config;
+  const GainConfig config = GainConfig::paper();
 
   InformationGain gain;
+  gain.setConfig(GainConfig::paper());
   gain.setInputMap(map);
   gain.setRoi(behind);
   EXPECT_EQ(gain.compute(view).gain, 0.0);
   EXPECT_EQ(referenceInformationGain(*map, behind, config, view).gain, 0.0);
   // Without the wall the same ROI is worth a lot.
   InformationGain empty;
+  empty.setConfig(GainConfig::paper());
   empty.setInputMap(std::make_shared<const OccupancyMap>());
   empty.setRoi(behind);
   EXPECT_GT(empty.compute(view).gain, 1000.0);
@@ -265,6 +291,7 @@ TEST(InformationGain, GainFallsOnceTheViewIsInserted)
   const Roi roi = wholePlantRoi(test::plantWorld().plant);
   const Viewpoint view = test::paperV0();
   InformationGain gain;
+  gain.setConfig(GainConfig::paper());
   gain.setInputMap(map);
   gain.setRoi(roi);
   const ViewGain before = gain.compute(view);
@@ -276,7 +303,7 @@ TEST(InformationGain, GainFallsOnceTheViewIsInserted)
   EXPECT_LT(after.gain, before.gain);
   EXPECT_LT(static_cast<double>(after.unknown_seen),
             0.7 * static_cast<double>(before.unknown_seen));
-  const ViewGain ref = referenceInformationGain(*map, roi, GainConfig(), view);
+  const ViewGain ref = referenceInformationGain(*map, roi, GainConfig::paper(), view);
   EXPECT_EQ(after.voxels_seen, ref.voxels_seen);
   EXPECT_NEAR(after.gain, ref.gain, 1e-9 * ref.gain);
   // Unchanged map: the snapshot is reused.
@@ -294,7 +321,7 @@ TEST(InformationGain, EqualsTheReferenceOnAPlantMapAtAnyThreadCount)
   std::vector<Viewpoint> views;
   sampler.sample(rng, views);
   views.push_back(test::paperV0());
-  GainConfig config;
+  GainConfig config = GainConfig::paper();
   config.rays_x = 32;
   config.rays_y = 24;
   const std::pair<const char*, Roi> rois[] = {
@@ -326,45 +353,19 @@ TEST(InformationGain, EqualsTheReferenceAtTheDefaultRayGrid)
   CylindricalSectorSampler sampler;
   const std::vector<Viewpoint> views = {test::paperV0(), sampler.gridCellCentres()[4],
                                         sampler.gridCellCentres()[6]};
-  const GainConfig config;
+  const GainConfig config = GainConfig::paper();
   for (const Roi& roi : {wholePlantRoi(plant), leafNodeRoi(plant)})
     expectSameGains(fastGains(map, roi, config, views, 2),
                     referenceGains(*map, roi, config, views), "default grid");
 }
 
-TEST(InformationGain, VisibilityWeightedEqualsTheReferenceOnAPlantMap)
-{
-  const auto map = test::plantMap();
-  const Plant& plant = test::plantWorld().plant;
-  CylindricalSectorSampler sampler;
-  const std::vector<Viewpoint> views = sampler.gridCellCentres();
-  GainConfig config;
-  config.rays_x = 24;
-  config.rays_y = 18;
-  config.visibility_weighted = true;
-  for (const Roi& roi : {mainStemRoi(plant), Roi()}) {
-    const std::vector<ViewGain> ref = referenceGains(*map, roi, config, views);
-    const std::vector<ViewGain> fast = fastGains(map, roi, config, views, 2);
-    ASSERT_EQ(fast.size(), ref.size());
-    for (std::size_t i = 0; i < fast.size(); ++i) {
-      EXPECT_EQ(fast[i].voxels_seen, ref[i].voxels_seen);
-      EXPECT_NEAR(fast[i].gain, ref[i].gain, 1e-9 * std::max(1.0, ref[i].gain));
-    }
-  }
-}
-
 TEST(InformationGain, VisibilityWeightedGainByHand)
 {
   // One ray along +x from a voxel centre, 10 voxels long: voxels 0..9 by computeRayKeys,
-  // then the end voxel 10. A frame seen from voxel 0 with a hit in voxel 5 made voxels
-  // 0-4 free (p 0.4 after one miss) and voxel 5 occupied (p 0.7); 6-10 are unknown.
-  const int k0 = 32768 + 200;
-  const double y = centre(32768 + 10), z = centre(32768 + 20);
-  auto map = std::make_shared<OccupancyMap>();
-  CloudXYZ hit;
-  hit.push_back(pcl::PointXYZ(static_cast<float>(centre(k0 + 5)), static_cast<float>(y),
-                              static_cast<float>(z)));
-  map->insert(hit, Eigen::Vector3d(centre(k0), y, z));
+  // then the end voxel 10; 0-4 free, 5 occupied, 6-10 unknown (lineWithAHitAt5).
+  const int k0 = kLineK0;
+  const double y = kLineY, z = kLineZ;
+  const auto map = lineWithAHitAt5();
   std::vector<double> p(11);
   for (int i = 0; i <= 10; ++i)
     p[static_cast<std::size_t>(i)] =
@@ -373,7 +374,7 @@ TEST(InformationGain, VisibilityWeightedGainByHand)
   ASSERT_NEAR(p[5], 0.7, 1e-6);
   ASSERT_EQ(p[6], 0.5);
 
-  GainConfig config;
+  GainConfig config = GainConfig::paper();
   config.rays_x = config.rays_y = 1;
   config.raycast_range_m = 10 * kRes; // ends at the centre of voxel 10
   // The ROI holds voxels 3..8.
@@ -389,6 +390,7 @@ TEST(InformationGain, VisibilityWeightedGainByHand)
   }
   config.visibility_weighted = true;
   InformationGain gain;
+  gain.setConfig(GainConfig::paper());
   gain.setInputMap(map);
   gain.setRoi(roi);
   gain.setConfig(config);
@@ -408,9 +410,90 @@ TEST(InformationGain, VisibilityWeightedGainByHand)
               1e-15);
 }
 
+TEST(InformationGain, UnknownOnlyCountsNeverObservedVoxelsByHand)
+{
+  // lineWithAHitAt5; the gain's ray starts in voxel 4 and looks along -x: 4..0 are
+  // free, -1 on unknown; the ROI holds voxels -3..2.
+  const int k0 = kLineK0;
+  const double y = kLineY, z = kLineZ;
+  const auto map = lineWithAHitAt5();
+  const double p_free = map->probability(Eigen::Vector3d(centre(k0), y, z));
+  ASSERT_NEAR(p_free, 0.4, 1e-6);
+
+  GainConfig config = GainConfig::paper();
+  config.rays_x = config.rays_y = 1;
+  config.raycast_range_m = 10 * kRes; // ends at the centre of voxel -6
+  const Roi roi({Box(Eigen::Vector3d(0.5 * (centre(k0 - 3) + centre(k0 + 2)), y, z),
+                     Eigen::Vector3d(5 * kRes + 1e-6, 1e-6, 1e-6))});
+  const Viewpoint view = lookingAlong(Eigen::Vector3d(centre(k0 + 4), y, z), M_PI);
+  InformationGain gain;
+  gain.setInputMap(map);
+  gain.setRoi(roi);
+  // The default counts unknown voxels, 3 per ray at most; the paper's counts every
+  // voxel's entropy.
+  EXPECT_TRUE(GainConfig().unknown_only);
+  EXPECT_EQ(GainConfig().unknown_depth, 3);
+  EXPECT_FALSE(GainConfig::paper().unknown_only);
+  EXPECT_EQ(GainConfig::paper().unknown_depth, 0);
+  EXPECT_EQ(gain.compute(view).gain, 3.0);
+  auto expectGain = [&](double bits, const char* what) {
+    gain.setConfig(config);
+    const ViewGain g = gain.compute(view);
+    EXPECT_EQ(g.voxels_seen, 6u) << what;
+    EXPECT_EQ(g.unknown_seen, 3u) << what;
+    EXPECT_NEAR(g.gain, bits, 1e-12) << what;
+    EXPECT_NEAR(referenceInformationGain(*map, roi, config, view).gain, bits, 1e-12)
+        << what;
+  };
+  expectGain(3.0 * occupancyEntropy(p_free) + 3.0, "the paper's");
+  config.unknown_only = true;
+  expectGain(3.0, "unknown only");   // the free voxels 2, 1, 0 add nothing
+  config.visibility_weighted = true; // the five free voxels before -1 pass 1 - p each
+  expectGain(std::pow(1.0 - p_free, 5) * (1.0 + 0.5 + 0.25), "unknown only, weighted");
+}
+
+TEST(InformationGain, WeightedUnknownOnlyAndDepthEqualTheReferenceOnAPlantMap)
+{
+  const auto map = test::plantMap();
+  const Plant& plant = test::plantWorld().plant;
+  CylindricalSectorSampler sampler;
+  const std::vector<Viewpoint> views = sampler.gridCellCentres();
+  GainConfig config = GainConfig::paper();
+  config.rays_x = 16;
+  config.rays_y = 12;
+  // The paper's entropy (weighted only: unweighted is above), unknown voxels only, and
+  // at most 3 of them per ray; each unweighted and visibility-weighted.
+  for (int variant : {0, 1, 2}) {
+    config.unknown_only = variant > 0;
+    config.unknown_depth = variant == 2 ? 3 : 0;
+    for (bool weighted : {false, true}) {
+      if (variant == 0 && !weighted)
+        continue;
+      config.visibility_weighted = weighted;
+      for (const Roi& roi :
+           {wholePlantRoi(plant), mainStemRoi(plant), leafNodeRoi(plant), Roi()}) {
+        const std::string what = "variant " + std::to_string(variant) +
+                                 (weighted ? ", weighted" : ", unweighted");
+        const std::vector<ViewGain> ref = referenceGains(*map, roi, config, views);
+        const std::vector<ViewGain> fast = fastGains(map, roi, config, views, 2);
+        expectSameGains(fast, ref, what);
+        for (const ViewGain& g : fast) {
+          if (config.unknown_only) {
+            EXPECT_LE(g.gain, static_cast<double>(g.unknown_seen)) << what;
+          }
+          if (config.unknown_depth > 0) { // each ray counts at most 3 unknown voxels
+            EXPECT_LE(g.unknown_seen, 3u * g.rays_cast) << what;
+          }
+        }
+      }
+    }
+  }
+}
+
 TEST(InformationGain, InvalidInputsThrow)
 {
   InformationGain gain;
+  gain.setConfig(GainConfig::paper());
   EXPECT_THROW(gain.compute(test::paperV0()), InvalidArgumentError);
   EXPECT_THROW(gain.update(), InvalidArgumentError);
   EXPECT_THROW(gain.setInputMap(nullptr), InvalidArgumentError);
@@ -428,6 +511,9 @@ TEST(InformationGain, InvalidInputsThrow)
   EXPECT_THROW(gain.setConfig(c), InvalidArgumentError);
   c = GainConfig();
   c.raycast_range_m = -1.0;
+  EXPECT_THROW(gain.setConfig(c), InvalidArgumentError);
+  c = GainConfig();
+  c.unknown_depth = -1;
   EXPECT_THROW(gain.setConfig(c), InvalidArgumentError);
   Box bad;
   bad.size = Eigen::Vector3d(-1.0, 1.0, 1.0);

@@ -50,9 +50,11 @@ std::shared_ptr<const OccupancyMap> wallMap()
 
 template <typename Planner>
 std::unique_ptr<Planner> makePlanner(std::shared_ptr<const OccupancyMap> map,
-                                     ViewpointSampler::ConstPtr sampler, const Roi& roi = kBox)
+                                     ViewpointSampler::ConstPtr sampler,
+                                     const Roi& roi = kBox)
 {
   auto p = std::make_unique<Planner>();
+  p->setGainConfig(GainConfig::paper()); // these tests count the paper's bits
   p->setInputMap(std::move(map));
   p->setCandidateSampler(std::move(sampler));
   p->setRoi(roi);
@@ -65,7 +67,8 @@ TEST(AttentionNbvPlanner, PicksTheCandidateThatSeesTheUnobservedBox)
 {
   const auto map = wallMap();
   auto planner = makePlanner<AttentionNbvPlanner>(
-      map, std::make_shared<FixedSampler>(std::vector<Viewpoint>{kAway, kBlocked, kClear}));
+      map,
+      std::make_shared<FixedSampler>(std::vector<Viewpoint>{kAway, kBlocked, kClear}));
   EXPECT_EQ(planner->name(), "nbv");
   NextViewResult result;
   planner->compute(result);
@@ -78,7 +81,8 @@ TEST(AttentionNbvPlanner, PicksTheCandidateThatSeesTheUnobservedBox)
   EXPECT_EQ(result.gain, result.candidates[2].gain.gain);
   EXPECT_EQ(result.utility, result.gain);
   EXPECT_FALSE(result.stop);
-  EXPECT_NEAR(result.gain, referenceInformationGain(*map, kBox, GainConfig(), kClear).gain,
+  EXPECT_NEAR(result.gain,
+              referenceInformationGain(*map, kBox, GainConfig::paper(), kClear).gain,
               1e-9 * result.gain);
   EXPECT_GE(result.total_ms, result.gain_ms);
 }
@@ -105,7 +109,8 @@ TEST(AttentionNbvPlanner, TiesGoToTheLowestIndexAndTheStopGainStops)
 TEST(AttentionNbvPlanner, TravelCostPrefersNearbyViews)
 {
   const auto map = std::make_shared<const OccupancyMap>();
-  const Viewpoint near_current = lookingAlong(Eigen::Vector3d(0.7, 0.3, 1.1), M_PI); // sees nothing
+  const Viewpoint near_current =
+      lookingAlong(Eigen::Vector3d(0.7, 0.3, 1.1), M_PI); // sees nothing
   auto planner = makePlanner<AttentionNbvPlanner>(
       map, std::make_shared<FixedSampler>(std::vector<Viewpoint>{kClear, near_current}));
   NextViewResult result;
@@ -119,6 +124,81 @@ TEST(AttentionNbvPlanner, TravelCostPrefersNearbyViews)
   EXPECT_EQ(best_gain, 0u);
   EXPECT_NEAR(result.utility, result.gain - 1e9 * 0.01, 1e-3);
   EXPECT_THROW(planner->setTravelCostWeight(-1.0), InvalidArgumentError);
+}
+
+TEST(AttentionNbvPlanner, ExploresOnceTheRoiHasLittleLeftToGive)
+{
+  // kClear sees the box; once a frame from kClear has made the box known, counting
+  // unknown voxels leaves the ROI nothing, and the planner explores: a region only
+  // kAway sees.
+  auto map = std::make_shared<OccupancyMap>();
+  const Roi region({Box(Eigen::Vector3d(0.2, 0.0, 1.1), Eigen::Vector3d(0.1, 0.1, 0.1))});
+  auto planner = makePlanner<AttentionNbvPlanner>(
+      map, std::make_shared<FixedSampler>(std::vector<Viewpoint>{kClear, kAway}));
+  GainConfig config = GainConfig::paper();
+  config.unknown_only = true; // every unknown voxel along a ray
+  planner->setGainConfig(config);
+  planner->setExploration(0.5, region);
+  EXPECT_EQ(planner->getExplorationShare(), 0.5);
+  NextViewResult first;
+  planner->compute(first);
+  EXPECT_FALSE(first.explored);
+  EXPECT_EQ(first.chosen, 0u);
+  ASSERT_GT(first.gain, 1000.0);
+
+  CloudXYZ wall;
+  for (int i = 0; i <= 600; ++i)
+    for (int j = 0; j <= 600; ++j)
+      wall.push_back(pcl::PointXYZ(1.2f, static_cast<float>(-0.3 + 0.001 * i),
+                                   static_cast<float>(0.8 + 0.001 * j)));
+  map->insert(wall, kClear.position);
+  NextViewResult second;
+  planner->compute(second);
+  ASSERT_LT(second.candidates[0].gain.gain, 0.5 * first.gain);
+  EXPECT_TRUE(second.explored);
+  EXPECT_EQ(second.chosen, 1u);                           // the region's unknown voxels
+  EXPECT_EQ(second.gain, second.candidates[1].gain.gain); // still the ROI's gain
+  EXPECT_EQ(second.utility, referenceInformationGain(*map, region, config, kAway).gain);
+  EXPECT_GT(second.utility, 1000.0);
+
+  // Without exploration the ROI's gain alone decides.
+  planner->setExploration(0.0);
+  planner->compute(second);
+  EXPECT_FALSE(second.explored);
+  EXPECT_EQ(second.chosen, 0u);
+  for (double bad : {-0.1, 1.5, std::nan("")})
+    EXPECT_THROW(planner->setExploration(bad), InvalidArgumentError);
+}
+
+TEST(AttentionNbvPlanner, ViewSpacingPassesOverCandidatesNearVisitedPositions)
+{
+  const auto map = std::make_shared<const OccupancyMap>();
+  const Viewpoint farther = lookingAtBox(Eigen::Vector3d(0.3, -0.25, 1.1)); // sees less
+  auto planner = makePlanner<AttentionNbvPlanner>(
+      map, std::make_shared<FixedSampler>(std::vector<Viewpoint>{kClear, farther}));
+  NextViewResult result;
+  planner->compute(result);
+  ASSERT_EQ(result.chosen, 0u);
+  ASSERT_GT(result.candidates[0].gain.gain, result.candidates[1].gain.gain);
+
+  planner->addVisitedPosition(kClear.position + Eigen::Vector3d(0.0, 0.0, 0.05));
+  planner->setViewSpacing(0.0);
+  planner->compute(result);
+  EXPECT_EQ(result.chosen, 0u); // no spacing: the gain decides
+  planner->setViewSpacing(0.1);
+  EXPECT_EQ(planner->getViewSpacing(), 0.1);
+  planner->compute(result);
+  EXPECT_EQ(result.chosen, 1u); // kClear is 5 cm from a visited position
+  EXPECT_EQ(result.gain, result.candidates[1].gain.gain);
+  // When every candidate is near a visited position, the gain decides again.
+  planner->addVisitedPosition(farther.position);
+  planner->compute(result);
+  EXPECT_EQ(result.chosen, 0u);
+  ASSERT_EQ(planner->getVisitedPositions().size(), 2u);
+  planner->clearVisitedPositions();
+  EXPECT_TRUE(planner->getVisitedPositions().empty());
+  for (double bad : {-0.1, std::nan(""), HUGE_VAL})
+    EXPECT_THROW(planner->setViewSpacing(bad), InvalidArgumentError);
 }
 
 TEST(AttentionNbvPlanner, SameSeedSameViews)
@@ -158,7 +238,8 @@ TEST(PredefinedPlanner, PatternOrders)
       ASSERT_EQ(order.size(), static_cast<std::size_t>(rows * cols));
       std::sort(order.begin(), order.end());
       for (int i = 0; i < rows * cols; ++i)
-        EXPECT_EQ(order[static_cast<std::size_t>(i)], i) << pattern << " " << rows << "x" << cols;
+        EXPECT_EQ(order[static_cast<std::size_t>(i)], i)
+            << pattern << " " << rows << "x" << cols;
     }
   EXPECT_THROW(PredefinedPlanner::patternOrder(0), InvalidArgumentError);
   EXPECT_THROW(PredefinedPlanner::patternOrder(5), InvalidArgumentError);
@@ -173,6 +254,7 @@ TEST(PredefinedPlanner, VisitsTheNineCentresInPatternOrderAndLoops)
   auto planner = makePlanner<PredefinedPlanner>(map, sampler);
   EXPECT_EQ(planner->name(), "predefined");
   InformationGain gain;
+  gain.setConfig(GainConfig::paper()); // as makePlanner's
   gain.setInputMap(map);
   gain.setRoi(kBox);
   for (int pattern = 1; pattern <= 4; ++pattern) {
@@ -256,7 +338,8 @@ TEST(ViewPlanner, MissingInputsThrow)
   }
   PredefinedPlanner predefined;
   predefined.setInputMap(map);
-  predefined.setCandidateSampler(std::make_shared<FixedSampler>(std::vector<Viewpoint>{kAway}));
+  predefined.setCandidateSampler(
+      std::make_shared<FixedSampler>(std::vector<Viewpoint>{kAway}));
   NextViewResult r;
   EXPECT_THROW(predefined.compute(r), InvalidArgumentError);
   AttentionNbvPlanner nbv;

@@ -60,6 +60,13 @@ TEST(ActiveVisionSession, ADepthFrameGivesTheMapOfItsBackProjectedCloud)
   const Eigen::Vector3d point = cloud.at(10, 20).getVector3fMap().cast<double>();
   EXPECT_EQ(from_depth.getMap()->state(point), VoxelState::occupied);
   EXPECT_EQ(from_depth.getMap()->state((point + T_W_O.position) / 2), VoxelState::free);
+  // Both record where the frame was taken from, for the planner's view spacing, and a
+  // new planner takes the record over.
+  for (ActiveVisionSession* s : {&from_depth, &from_cloud})
+    EXPECT_EQ(s->getPlanner().getVisitedPositions(),
+              std::vector<Eigen::Vector3d>{T_W_O.position});
+  from_depth.setPlanner(std::make_shared<AttentionNbvPlanner>());
+  EXPECT_EQ(from_depth.getPlanner().getVisitedPositions().size(), 1u);
 }
 
 TEST(ActiveVisionSession, RanksTheCandidatesChosenFirstThenByGain)

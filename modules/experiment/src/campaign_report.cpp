@@ -226,6 +226,33 @@ std::pair<double, double> gainAt(const Group& a, const Group& b, const std::stri
   return {100.0 * (fa - fb) / fb, 100.0 * (fa - fb)};
 }
 
+/// The mean over a group's units of the whole plant's recall of organ `o` (index into
+/// evaluatedOrgans()) after `views` views (a unit's value: the mean over its trials
+/// where finite; a trial that stopped early keeps its last view); NaN where no unit has
+/// it (files without organ recall, a plant without the organ).
+double organRecallAt(const Group& g, std::size_t o, int views)
+{
+  std::vector<double> values;
+  for (const auto& [key, unit] : g.units) {
+    double sum = 0.0;
+    int n = 0;
+    for (const StoredTrial* t : unit.trials) {
+      if (t->organ_recall.empty())
+        continue;
+      const std::size_t i = std::min<std::size_t>(static_cast<std::size_t>(views - 1),
+                                                  t->organ_recall.size() - 1);
+      const double x = t->organ_recall[i][o];
+      if (std::isfinite(x)) {
+        sum += x;
+        ++n;
+      }
+    }
+    if (n)
+      values.push_back(sum / n);
+  }
+  return values.empty() ? kNan : summarize(values).mean;
+}
+
 bool isNbv(const std::string& planner)
 {
   return planner.rfind("nbv", 0) == 0;
@@ -340,6 +367,40 @@ void writeSummary(std::ostream& out, const Analysis& a, const std::string& title
     for (std::size_t i = 0; i < a.levels.size(); ++i)
       out << "---|";
     out << "\n" << gains.str();
+  }
+
+  // Recall per organ in the main study: which organs the reconstructions miss.
+  const std::vector<PartLabel>& organs = evaluatedOrgans();
+  std::ostringstream organ_rows;
+  std::vector<bool> organ_seen(organs.size(), false);
+  for (const auto& [key, g] : a.groups)
+    for (std::size_t o = 0; o < organs.size(); ++o)
+      if (key.study == "main" && std::isfinite(organRecallAt(g, o, g.views)))
+        organ_seen[o] = true;
+  for (const auto& [key, g] : a.groups) {
+    if (key.study != "main")
+      continue;
+    organ_rows << "| " << key.planner << (key.variant.empty() ? "" : ", " + key.variant)
+               << " |";
+    for (std::size_t o = 0; o < organs.size(); ++o)
+      if (organ_seen[o])
+        organ_rows << " " << fixed(organRecallAt(g, o, std::min(3, g.views)), 3) << " / "
+                   << fixed(organRecallAt(g, o, g.views), 3) << " |";
+    organ_rows << "\n";
+  }
+  if (std::find(organ_seen.begin(), organ_seen.end(), true) != organ_seen.end()) {
+    out << "\n## Recall per organ (study main)\n\n"
+        << "The whole plant's recall of each organ after 3 views / after the last view "
+           "(mean over samples; a voxel where two organs meet counts for both).\n\n"
+           "| planner |";
+    for (std::size_t o = 0; o < organs.size(); ++o)
+      if (organ_seen[o])
+        out << " " << partLabelName(organs[o]) << " |";
+    out << "\n|---|";
+    for (std::size_t o = 0; o < organs.size(); ++o)
+      if (organ_seen[o])
+        out << "---|";
+    out << "\n" << organ_rows.str();
   }
 
   // Sensitivity studies: each variant beside the main study's same planner.

@@ -2,6 +2,7 @@
 #include <cstdint>
 #include <limits>
 #include <set>
+#include <unordered_map>
 #include <unordered_set>
 
 #include <pcl/common/point_tests.h>
@@ -51,8 +52,21 @@ bool keyOf(const pcl::PointXYZ& p, const VoxelLattice& lattice, VoxelKey& key)
 
 } // namespace
 
+const std::vector<PartLabel>& evaluatedOrgans()
+{
+  static const std::vector<PartLabel> organs = {PartLabel::stem, PartLabel::petiole,
+                                                PartLabel::leaflet, PartLabel::peduncle,
+                                                PartLabel::fruit};
+  return organs;
+}
+
 struct ReconstructionEvaluator::Impl {
   CloudXYZ::Ptr ground_truth;
+  /// Per ground-truth voxel (ground_truth's order), a bit (1 << label) for every part
+  /// label of the samples in it.
+  std::vector<std::uint32_t> voxel_labels;
+  /// The whole ground truth as reference: its tree is built once, in setGroundTruth.
+  std::unique_ptr<ReconstructionMetrics> whole;
   TriangleMesh background;
   /// Voxels of the levels' boxes near the background and free of ground truth.
   std::unordered_set<VoxelKey> background_keys;
@@ -146,16 +160,25 @@ void ReconstructionEvaluator::setNumberOfThreads(int threads)
 void ReconstructionEvaluator::setGroundTruth(const Plant& plant)
 {
   auto samples = std::make_shared<CloudXYZ>();
+  std::vector<PartLabel> labels; // one per sample, or empty
   if (!plant.mesh.empty()) {
     MeshSampler sampler;
     sampler.setInputMesh(std::make_shared<TriangleMesh>(plant.mesh));
     sampler.setNumberOfPoints(
         groundTruthSampleCount(sampler.getSurfaceArea(), resolution_m_));
     sampler.setSeed(seed_);
-    sampler.sample(*samples);
+    CloudXYZL labelled; // the same points as the unlabelled draw, with their labels
+    sampler.sample(labelled);
+    samples->reserve(labelled.size());
+    labels.reserve(labelled.size());
+    for (const pcl::PointXYZL& p : labelled) {
+      samples->push_back(pcl::PointXYZ(p.x, p.y, p.z));
+      labels.push_back(static_cast<PartLabel>(p.label));
+    }
   } else if (!plant.scan_points.empty()) {
     for (const Eigen::Vector3f& p : plant.scan_points)
       samples->push_back(pcl::PointXYZ(p.x(), p.y(), p.z()));
+    labels = plant.scan_labels;
   } else {
     throw InvalidArgumentError("plant '" + plant.name +
                                "' has neither a mesh nor scan points: no ground truth");
@@ -166,6 +189,30 @@ void ReconstructionEvaluator::setGroundTruth(const Plant& plant)
   grid.setInputCloud(samples);
   impl_->ground_truth = std::make_shared<CloudXYZ>();
   grid.filter(*impl_->ground_truth);
+
+  // The organs of each ground-truth voxel: the labels of the samples in it.
+  const VoxelLattice lattice(resolution_m_);
+  std::unordered_map<VoxelKey, std::uint32_t> labels_of;
+  if (labels.size() == samples->size())
+    for (std::size_t i = 0; i < samples->size(); ++i) {
+      VoxelKey key;
+      const auto label = static_cast<std::uint32_t>(labels[i]);
+      if (label < 32 && keyOf((*samples)[i], lattice, key))
+        labels_of[key] |= 1u << label;
+    }
+  impl_->voxel_labels.assign(impl_->ground_truth->size(), 0u);
+  for (std::size_t i = 0; i < impl_->ground_truth->size(); ++i) {
+    VoxelKey key;
+    if (keyOf((*impl_->ground_truth)[i], lattice, key)) {
+      const auto it = labels_of.find(key);
+      if (it != labels_of.end())
+        impl_->voxel_labels[i] = it->second;
+    }
+  }
+  impl_->whole = std::make_unique<ReconstructionMetrics>();
+  impl_->whole->setThreshold(resolution_m_);
+  impl_->whole->setNumberOfThreads(threads_);
+  impl_->whole->setReference(impl_->ground_truth);
   if (!levels_.empty())
     setLevels(std::vector<EvaluationLevel>(levels_)); // re-crop the new ground truth
 }
@@ -278,6 +325,34 @@ void ReconstructionEvaluator::compute(const CloudXYZ& reconstruction,
     s.chamfer = chamfer_count ? chamfer_sum / double(chamfer_count)
                               : std::numeric_limits<double>::quiet_NaN();
   }
+}
+
+void ReconstructionEvaluator::computeOrganRecall(const CloudXYZ& reconstruction,
+                                                 std::vector<OrganRecall>& recalls) const
+{
+  if (!impl_->whole)
+    throw InvalidArgumentError("ReconstructionEvaluator: no ground truth set");
+  ReconstructionMetrics& metrics = *impl_->whole;
+  metrics.setNumberOfThreads(threads_);
+  metrics.setReconstruction(withoutBackground(reconstruction));
+  std::vector<double> to_mine;
+  metrics.computeDistances(to_mine);
+  const std::vector<PartLabel>& organs = evaluatedOrgans();
+  std::vector<std::size_t> found(organs.size(), 0);
+  recalls.assign(organs.size(), OrganRecall{});
+  for (std::size_t o = 0; o < organs.size(); ++o)
+    recalls[o].organ = organs[o];
+  for (std::size_t i = 0; i < impl_->voxel_labels.size(); ++i)
+    for (std::size_t o = 0; o < organs.size(); ++o)
+      if (impl_->voxel_labels[i] & (1u << static_cast<std::uint32_t>(organs[o]))) {
+        ++recalls[o].reference_points;
+        if (to_mine[i] < resolution_m_)
+          ++found[o];
+      }
+  for (std::size_t o = 0; o < organs.size(); ++o)
+    recalls[o].recall = recalls[o].reference_points
+                            ? double(found[o]) / double(recalls[o].reference_points)
+                            : std::numeric_limits<double>::quiet_NaN();
 }
 
 void ReconstructionEvaluator::classify(const CloudXYZ& reconstruction, std::size_t level,

@@ -219,6 +219,12 @@ void ResultStore::writeResult(const TrialSpec& spec, const TrialResult& r) const
                                   {"chamfer", finite(score.chamfer)}};
     }
     v["levels"] = levels;
+    if (!s.organs.empty()) {
+      nlohmann::ordered_json organs;
+      for (const OrganRecall& o : s.organs)
+        organs[partLabelName(o.organ)] = finite(o.recall);
+      v["organs"] = organs;
+    }
     views.push_back(v);
   }
   j["views"] = views;
@@ -426,7 +432,17 @@ StoredTrial ResultStore::loadFile(const std::filesystem::path& path)
       scores.push_back(s);
     }
     t.views.push_back(std::move(scores));
+    if (views[v].contains("organs")) {
+      const std::string organs = view + ".organs";
+      std::vector<double> recall;
+      for (PartLabel organ : evaluatedOrgans())
+        recall.push_back(
+            r.score(r.at(views[v], view, "organs"), organs, partLabelName(organ), 1.0));
+      t.organ_recall.push_back(std::move(recall));
+    }
   }
+  if (!t.organ_recall.empty() && t.organ_recall.size() != t.views.size())
+    r.fail("views", "organ recall in some views and not in others");
   return t;
 }
 

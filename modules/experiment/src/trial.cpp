@@ -44,12 +44,14 @@ std::string roiClassName(const Roi& roi)
   return name.empty() ? "roi" : name;
 }
 
-ViewPlanner::Ptr makePlanner(const TrialConfig& c)
+ViewPlanner::Ptr makePlanner(const TrialConfig& c, const Roi& exploration)
 {
   switch (c.planner) {
   case PlannerKind::nbv: {
     auto planner = std::make_shared<AttentionNbvPlanner>();
     planner->setStopGain(c.stop_gain_bits);
+    planner->setExploration(c.explore_share, exploration);
+    planner->setViewSpacing(c.view_spacing_m);
     return planner;
   }
   case PlannerKind::predefined: {
@@ -108,6 +110,10 @@ void TrialConfig::validate() const
         "3 x 3 for the predefined planner (its patterns are defined on 9 cells)");
   if (!(stop_gain_bits >= 0.0) || !std::isfinite(stop_gain_bits))
     bad("stop_gain_bits", std::to_string(stop_gain_bits), "a finite value >= 0");
+  if (!(explore_share >= 0.0 && explore_share <= 1.0))
+    bad("explore_share", std::to_string(explore_share), "in [0, 1] (0: never explore)");
+  if (!(std::isfinite(view_spacing_m) && view_spacing_m >= 0.0))
+    bad("view_spacing", std::to_string(view_spacing_m), "finite and >= 0 (metres)");
   if (views < 1 || views > 1000)
     bad("views", std::to_string(views), "1 to 1000");
   if (threads < 0)
@@ -238,7 +244,7 @@ void Trial::run(TrialResult& result)
   session_config.seed = deriveSeed(c.seed, kPlannerStream);
   ActiveVisionSession session(session_config);
   session.setCamera(c.camera); // the candidates' frusta are the camera's
-  session.setPlanner(makePlanner(c));
+  session.setPlanner(makePlanner(c, exploration_));
   attended_ = c.roi_source.apply(attention_, roiSourceSeed(c.seed));
   session.setRoi(attended_);
   // The detections source: a detector of the config's quality finds the attention
@@ -300,6 +306,7 @@ void Trial::run(TrialResult& result)
       }
       view = next.view;
       step.gain = next.gain;
+      step.unknown_seen = next.candidates[next.chosen].gain.unknown_seen;
       step.candidates = next.candidates.size();
     }
     step.view = view;
@@ -336,6 +343,7 @@ void Trial::run(TrialResult& result)
     map_->getOccupiedVoxelCentres(occupied);
     step.occupied_voxels = occupied.size();
     evaluator.compute(occupied, step.scores);
+    evaluator.computeOrganRecall(occupied, step.organs);
     step.eval_ms = eval_clock.ms();
     if (c.roi_source.followsFrames()) { // what the next view attends to
       attended_ = detecting ? fusion.getRoi() : Roi();

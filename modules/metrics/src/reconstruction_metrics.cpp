@@ -199,6 +199,16 @@ void ReconstructionMetrics::computeDistances(
                     reference_to_reconstruction);
 }
 
+void ReconstructionMetrics::computeDistances(
+    std::vector<double>& reference_to_reconstruction) const
+{
+  requireClouds(impl_ && impl_->has_reference, impl_ && impl_->has_reconstruction,
+                "computeDistances");
+  const int threads = threads_ > 0 ? threads_ : omp_get_max_threads();
+  directedDistances(impl_->reference, impl_->reconstruction, threads,
+                    reference_to_reconstruction);
+}
+
 int viewsToReach(const std::vector<double>& curve, double tau)
 {
   for (std::size_t i = 0; i < curve.size(); ++i)

@@ -1,3 +1,5 @@
+#include "gain_snapshot.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstring>
@@ -7,8 +9,6 @@
 
 #include <plantnbv/common/error.h>
 #include <plantnbv/planning/information_gain.h>
-
-#include "gain_snapshot.h"
 
 namespace plantnbv {
 namespace gain_detail {
@@ -33,11 +33,10 @@ KeyBox roiKeyBox(const Box& box, const VoxelLattice& lattice)
   KeyBox k;
   for (int a = 0; a < 3; ++a) {
     const double c = box.center[a], half = 0.5 * box.size[a];
-    auto inside = [&](int key) {
-      return std::abs(lattice.keyToCoord(key) - c) <= half;
-    };
+    auto inside = [&](int key) { return std::abs(lattice.keyToCoord(key) - c) <= half; };
     // A superset of the interval, then shrunk to it with the exact test.
-    const double lo = std::floor((c - half) / resolution) + VoxelLattice::kKeyOffset - 2.0;
+    const double lo =
+        std::floor((c - half) / resolution) + VoxelLattice::kKeyOffset - 2.0;
     const double hi = std::ceil((c + half) / resolution) + VoxelLattice::kKeyOffset + 2.0;
     int klo = static_cast<int>(std::max(lo, 0.0));
     int khi = static_cast<int>(std::min(hi, kKeyLimit - 1.0));
@@ -101,7 +100,7 @@ std::uint32_t Snapshot::valueIndex(float log_odds)
   std::uint32_t bits;
   std::memcpy(&bits, &log_odds, sizeof bits);
   const std::uint32_t key = bits + 1u; // 0 marks an empty slot (NaN bits never occur)
-  if (key == last_key_) // neighbouring leaves often share their value
+  if (key == last_key_)                // neighbouring leaves often share their value
     return last_value_;
   last_key_ = key;
   std::size_t mask = hash_keys_.size() - 1;
@@ -117,7 +116,8 @@ std::uint32_t Snapshot::valueIndex(float log_odds)
   hash_keys_[i] = key;
   hash_values_[i] = index;
   if (2 * distinct_.size() > hash_keys_.size()) { // keep it at most half full
-    std::vector<std::uint32_t> keys(2 * hash_keys_.size(), 0), values(2 * hash_keys_.size());
+    std::vector<std::uint32_t> keys(2 * hash_keys_.size(), 0),
+        values(2 * hash_keys_.size());
     mask = keys.size() - 1;
     for (std::size_t j = 0; j < hash_keys_.size(); ++j) {
       if (!hash_keys_[j])
@@ -141,7 +141,8 @@ void Snapshot::collect(const octomap::OcTreeNode* node, int depth, const int k[3
   const float log_odds = node->getLogOdds();
   if (!tree->nodeHasChildren(node)) {
     if (full || near_roi || log_odds > threshold_)
-      leaves_.push_back({{k[0], k[1], k[2]}, VoxelLattice::kTreeDepth - depth, valueIndex(log_odds)});
+      leaves_.push_back(
+          {{k[0], k[1], k[2]}, VoxelLattice::kTreeDepth - depth, valueIndex(log_odds)});
     return;
   }
   // Inner nodes hold the maximum of their children (OccupancyMap keeps them so): away
@@ -273,7 +274,8 @@ void Snapshot::fill(Bricks<CodeT>& bricks, const KeyBox& region)
   bricks.shareUniformBricks();
 }
 
-void Snapshot::build(const octomap::OcTree& octree, const Roi& roi, bool full_map)
+void Snapshot::build(const octomap::OcTree& octree, const Roi& roi, bool full_map,
+                     bool unknown_only)
 {
   built = false;
   tree = &octree;
@@ -314,14 +316,15 @@ void Snapshot::build(const octomap::OcTree& octree, const Roi& roi, bool full_ma
   remap_.resize(distinct_.size());
   for (std::size_t i = 0; i < distinct_.size(); ++i)
     remap_[i] = static_cast<std::uint32_t>(
-        std::lower_bound(sorted.begin(), sorted.end(), distinct_[i]) - sorted.begin() + 1);
+        std::lower_bound(sorted.begin(), sorted.end(), distinct_[i]) - sorted.begin() +
+        1);
   values.assign(sorted.size() + 1, Value());
   values[0].entropy = occupancyEntropy(0.5);
   for (std::size_t i = 0; i < sorted.size(); ++i) {
     const double p = octomap::probability(sorted[i]); // OcTreeNode::getOccupancy()
     Value& v = values[i + 1];
     v.log_odds = sorted[i];
-    v.entropy = occupancyEntropy(p);
+    v.entropy = unknown_only ? 0.0 : occupancyEntropy(p);
     v.free_prob = 1.0 - p;
     v.occupied = sorted[i] > threshold_; // OcTree::isNodeOccupied
   }

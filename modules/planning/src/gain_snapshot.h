@@ -70,8 +70,10 @@ struct ClipBox {
 
 /// What a value index stands for.
 struct Value {
-  float log_odds = 0.0f;  ///< the map's (0 for unknown)
-  double entropy = 1.0;   ///< bits (occupancyEntropy of OctoMap's getOccupancy())
+  float log_odds = 0.0f; ///< the map's (0 for unknown)
+  /// What a voxel of this value adds to the gain (bits): occupancyEntropy of OctoMap's
+  /// getOccupancy(), or 0 for a known value with GainConfig::unknown_only.
+  double entropy = 1.0;
   double free_prob = 0.5; ///< 1 - occupancy probability
   bool occupied = false;  ///< log-odds > the map's threshold (OcTree::isNodeOccupied)
 };
@@ -132,17 +134,18 @@ class Snapshot {
 public:
   /// Rebuilds from the tree. `full`: every known voxel (no ROI, or visibility
   /// weighting); otherwise the voxels in the ROI's key box and the occupied ones.
-  void build(const octomap::OcTree& tree, const Roi& roi, bool full);
+  /// `unknown_only`: a known value is worth 0 bits (GainConfig::unknown_only).
+  void build(const octomap::OcTree& tree, const Roi& roi, bool full, bool unknown_only);
 
   const octomap::OcTree* tree = nullptr;
   VoxelLattice lattice{1.0}; ///< the tree's
-  bool roi_mode = false; ///< a non-empty ROI
+  bool roi_mode = false;     ///< a non-empty ROI
   bool full = false;
-  int code_bytes = 1;    ///< 1, 2 or 4: which of the Bricks below is in use
-  std::vector<KeyBox> roi_boxes; ///< keys inside each ROI box (some may be empty)
-  KeyBox roi_bbox;               ///< their union's bounding box
+  int code_bytes = 1;              ///< 1, 2 or 4: which of the Bricks below is in use
+  std::vector<KeyBox> roi_boxes;   ///< keys inside each ROI box (some may be empty)
+  KeyBox roi_bbox;                 ///< their union's bounding box
   std::vector<ClipBox> clip_boxes; ///< the ROI boxes grown by one voxel
-  std::vector<Value> values;     ///< by value index; 0 = unknown
+  std::vector<Value> values;       ///< by value index; 0 = unknown
   Bricks<std::uint8_t> bricks8;
   Bricks<std::uint16_t> bricks16;
   Bricks<std::uint32_t> bricks32;

@@ -349,6 +349,13 @@ double clipDistance(const Snapshot& snap, const Segment& seg)
   return s_last * seg.length();
 }
 
+/// The unknown ROI voxels one ray may count (GainConfig::unknown_depth; 0: all).
+int unknownDepth(const GainConfig& config)
+{
+  return config.unknown_depth > 0 ? config.unknown_depth
+                                  : std::numeric_limits<int>::max();
+}
+
 // --- the general kernel (no ROI, or visibility weighting) ------------------------------
 
 /// Walks one ray's voxels with the shared traversal: looks each up in the snapshot,
@@ -359,6 +366,7 @@ struct RayWalker {
   const Value* values;
   VoxelSet& set;
   std::uint32_t* counts;
+  int unknown_left; ///< unknown ROI voxels the ray may still count
   double t_stop = std::numeric_limits<double>::infinity();
   double vis = 1.0;
   bool stopped = false; ///< at an occupied voxel
@@ -378,13 +386,15 @@ struct RayWalker {
   bool visit(int kx, int ky, int kz)
   {
     const unsigned c = bricks.code(kx, ky, kz);
+    const bool counts_here =
+        (c & kInRoi) && (c >> kValueShift != 0 || unknown_left-- > 0);
     if constexpr (kWeighted) {
-      if (c & kInRoi)
+      if (counts_here)
         set.insertMax(kx, ky, kz, vis);
       vis *= values[c >> kValueShift].free_prob;
       return true;
     } else {
-      if ((c & kInRoi) && set.insert(kx, ky, kz))
+      if (counts_here && set.insert(kx, ky, kz))
         ++counts[c >> kValueShift];
       if (c & kOccupied) {
         stopped = true;
@@ -444,7 +454,7 @@ ViewGain computeGeneral(const Snapshot& snap, const Bricks<CodeT>& bricks,
     if (!snap.lattice.coordToKey(end, key_end))
       continue;
     RayWalker<CodeT, kWeighted> walker{bricks, snap.values.data(), scratch.voxels,
-                                       scratch.counts.data()};
+                                       scratch.counts.data(), unknownDepth(config)};
     if (snap.roi_mode) {
       walker.t_stop = clipDistance(snap, Segment(origin, end));
       if (walker.t_stop < 0.0)
@@ -519,15 +529,21 @@ PLANTNBV_ALWAYS_INLINE void loadBrick(const Bricks<CodeT>& bricks, RoiSeen& seen
   c.seen = seen.brick(kx >> kBrickShift, ky >> kBrickShift, kz >> kBrickShift);
 }
 
-/// Visits a voxel of the cursor's brick: counts it if it is in the ROI and new; false if
-/// it is occupied (the ray stops after it).
+/// Visits a voxel of the cursor's brick: counts it if it is in the ROI and new (an
+/// unknown one only while the ray's `unknown_left` lasts); false if it is occupied (the
+/// ray stops after it).
 template <typename CodeT>
 PLANTNBV_ALWAYS_INLINE bool visitVoxel(const Cursor<CodeT>& c, std::uint32_t* counts,
-                                       int kx, int ky, int kz)
+                                       int& unknown_left, int kx, int ky, int kz)
 {
   const int local = brickLocal(kx, ky, kz);
   const unsigned code = c.voxels[local];
   if (code & kInRoi) {
+    if (code >> kValueShift == 0) { // unknown
+      if (unknown_left == 0)
+        return true; // deeper than GainConfig::unknown_depth on this ray
+      --unknown_left;
+    }
     std::uint64_t& word = c.seen[local >> 6];
     const std::uint64_t bit = std::uint64_t{1} << (local & 63);
     if (!(word & bit)) {
@@ -657,12 +673,13 @@ ViewGain computeFast(const Snapshot& snap, const Bricks<CodeT>& bricks,
     if (t_stop < 0.0)
       continue; // misses the ROI
     ++result.rays_cast;
+    int unknown_left = unknownDepth(config);
 
     rt::RaySetup s;
     if (!rt::setupRay(origin, end, key_origin, key_end, snap.lattice, s)) {
       Cursor<CodeT> cursor;
       loadBrick(bricks, seen, key_end[0], key_end[1], key_end[2], cursor); // one voxel
-      visitVoxel(cursor, counts, key_end[0], key_end[1], key_end[2]);
+      visitVoxel(cursor, counts, unknown_left, key_end[0], key_end[1], key_end[2]);
       continue;
     }
     double tx = s.t_max[0], ty = s.t_max[1], tz = s.t_max[2];
@@ -713,7 +730,7 @@ ViewGain computeFast(const Snapshot& snap, const Bricks<CodeT>& bricks,
       loadBrick(bricks, seen, kx, ky, kz, cursor); // its voxel lies outside the table
     } else {
       loadBrick(bricks, seen, kx, ky, kz, cursor);
-      if (!visitVoxel(cursor, counts, kx, ky, kz))
+      if (!visitVoxel(cursor, counts, unknown_left, kx, ky, kz))
         continue; // the camera's voxel is occupied
     }
     bool reached_end = false;
@@ -754,12 +771,12 @@ ViewGain computeFast(const Snapshot& snap, const Bricks<CodeT>& bricks,
           continue;
         }
       }
-      if (!cursor.empty && !visitVoxel(cursor, counts, kx, ky, kz))
+      if (!cursor.empty && !visitVoxel(cursor, counts, unknown_left, kx, ky, kz))
         break; // occupied
     }
     if (reached_end) {
       loadBrick(bricks, seen, ex, ey, ez, cursor);
-      visitVoxel(cursor, counts, ex, ey, ez);
+      visitVoxel(cursor, counts, unknown_left, ex, ey, ez);
     }
   }
 
@@ -845,6 +862,14 @@ double occupancyEntropy(double p)
   return -p * std::log2(p) - (1.0 - p) * std::log2(1.0 - p);
 }
 
+GainConfig GainConfig::paper()
+{
+  GainConfig c;
+  c.unknown_only = false;
+  c.unknown_depth = 0;
+  return c;
+}
+
 void GainConfig::validate() const
 {
   auto fail = [](const char* field, double value, const char* expected) {
@@ -862,6 +887,8 @@ void GainConfig::validate() const
     fail("vertical_fov_rad", vertical_fov_rad, "in (0, pi) (rad)");
   if (!(std::isfinite(raycast_range_m) && raycast_range_m > 0.0))
     fail("raycast_range_m", raycast_range_m, "finite and > 0 (metres)");
+  if (unknown_depth < 0)
+    fail("unknown_depth", unknown_depth, ">= 0 (voxels; 0: no limit)");
 }
 
 InformationGain::InformationGain() : impl_(std::make_unique<Impl>())
@@ -875,8 +902,10 @@ InformationGain::~InformationGain() = default;
 void InformationGain::setConfig(const GainConfig& config)
 {
   config.validate();
-  if (config.visibility_weighted != config_.visibility_weighted)
-    dirty_ = true; // the snapshot holds every known voxel with visibility weighting
+  if (config.visibility_weighted != config_.visibility_weighted ||
+      config.unknown_only != config_.unknown_only)
+    dirty_ = true; // the snapshot holds every known voxel with visibility weighting,
+                   // and its values' worth depends on unknown_only
   config_ = config;
   impl_->dirs_C = rayDirectionsBody(config_);
   impl_->plane = imagePlane(config_);
@@ -932,7 +961,8 @@ void InformationGain::buildSnapshot(const std::vector<std::size_t>& boxes)
   Roi roi;
   for (std::size_t i : boxes)
     roi.addBox(roi_.boxes()[i]);
-  impl_->snapshot.build(map_->getOcTree(), roi, config_.visibility_weighted);
+  impl_->snapshot.build(map_->getOcTree(), roi, config_.visibility_weighted,
+                        config_.unknown_only);
   impl_->snapshot_boxes = boxes;
   dirty_ = false;
   stats_.update_ms = start.ms();

@@ -26,6 +26,12 @@ ViewGain referenceInformationGain(const OccupancyMap& map, const Roi& roi,
   const octomap::point3d origin(o[0], o[1], o[2]);
   const bool weighted = config.visibility_weighted;
 
+  auto inRoi = [&](const octomap::OcTreeKey& key) {
+    const Eigen::Vector3d centre(tree.keyToCoord(key[0]), tree.keyToCoord(key[1]),
+                                 tree.keyToCoord(key[2]));
+    return roi.empty() || roi.contains(centre);
+  };
+
   ViewGain result;
   octomap::KeyRay ray;
   std::unordered_set<octomap::OcTreeKey, octomap::OcTreeKey::KeyHash> seen;
@@ -46,15 +52,25 @@ ViewGain referenceInformationGain(const OccupancyMap& map, const Roi& roi,
     keys.assign(ray.begin(), ray.end());
     keys.push_back(key_end);
     double vis = 1.0;
+    int unknown_left = config.unknown_depth > 0 ? config.unknown_depth : -1;
     for (const octomap::OcTreeKey& key : keys) {
       const octomap::OcTreeNode* node = tree.search(key);
+      // An unknown ROI voxel deeper than unknown_depth on this ray does not count.
+      bool counts = true;
+      if (!node && unknown_left >= 0 && inRoi(key)) {
+        counts = unknown_left > 0;
+        unknown_left -= counts ? 1 : 0;
+      }
       if (weighted) {
-        auto it = visibility.emplace(key, vis).first;
-        if (vis > it->second)
-          it->second = vis;
+        if (counts) {
+          auto it = visibility.emplace(key, vis).first;
+          if (vis > it->second)
+            it->second = vis;
+        }
         vis *= 1.0 - (node ? node->getOccupancy() : 0.5);
       } else {
-        seen.insert(key);
+        if (counts)
+          seen.insert(key);
         if (node && tree.isNodeOccupied(node))
           break; // it counts, nothing behind it does
       }
@@ -62,15 +78,16 @@ ViewGain referenceInformationGain(const OccupancyMap& map, const Roi& roi,
   }
 
   auto term = [&](const octomap::OcTreeKey& key, double weight) {
-    const Eigen::Vector3d centre(tree.keyToCoord(key[0]), tree.keyToCoord(key[1]),
-                                 tree.keyToCoord(key[2]));
-    if (!roi.empty() && !roi.contains(centre))
+    if (!inRoi(key))
       return;
     const octomap::OcTreeNode* node = tree.search(key);
     ++result.voxels_seen;
     if (!node)
       ++result.unknown_seen;
-    result.gain += weight * occupancyEntropy(node ? node->getOccupancy() : 0.5);
+    const double bits = !node                 ? 1.0
+                        : config.unknown_only ? 0.0
+                                              : occupancyEntropy(node->getOccupancy());
+    result.gain += weight * bits;
   };
   if (weighted)
     for (const auto& [key, vis] : visibility)

@@ -83,7 +83,8 @@ void ViewPlanner::requireInputs(const char* who) const
                                ": no candidate sampler set (setCandidateSampler)");
 }
 
-// --- AttentionNbvPlanner ----------------------------------------------------------------
+// --- AttentionNbvPlanner
+// ----------------------------------------------------------------
 
 void AttentionNbvPlanner::setStopGain(double bits)
 {
@@ -104,6 +105,57 @@ void AttentionNbvPlanner::setTravelCostWeight(double lambda)
   travel_cost_weight_ = lambda;
 }
 
+void AttentionNbvPlanner::setExploration(double share, const Roi& region)
+{
+  if (!(share >= 0.0 && share <= 1.0)) {
+    std::ostringstream s;
+    s << "AttentionNbvPlanner::setExploration: share = " << share
+      << " must be in [0, 1] (0: never explore)";
+    throw InvalidArgumentError(s.str());
+  }
+  explore_gain_.setRoi(region);
+  explore_share_ = share;
+  peak_gain_ = 0.0;
+}
+
+void AttentionNbvPlanner::setViewSpacing(double spacing_m)
+{
+  if (!(std::isfinite(spacing_m) && spacing_m >= 0.0)) {
+    std::ostringstream s;
+    s << "AttentionNbvPlanner::setViewSpacing: " << spacing_m
+      << " must be finite and >= 0 (metres; 0: no spacing)";
+    throw InvalidArgumentError(s.str());
+  }
+  view_spacing_m_ = spacing_m;
+}
+
+template <typename Utility>
+std::size_t AttentionNbvPlanner::argMax(Utility utility, double& best_utility) const
+{
+  std::vector<bool> spaced(views_.size(), true);
+  bool any_spaced = false;
+  for (std::size_t i = 0; i < views_.size(); ++i) {
+    for (const Eigen::Vector3d& p : visited_W_)
+      if ((views_[i].position - p).norm() < view_spacing_m_)
+        spaced[i] = false;
+    any_spaced = any_spaced || spaced[i];
+  }
+  std::size_t best = 0;
+  best_utility = -std::numeric_limits<double>::infinity();
+  for (std::size_t i = 0; i < views_.size(); ++i) {
+    if (any_spaced && !spaced[i])
+      continue;
+    double u = utility(i);
+    if (travel_cost_weight_ > 0.0)
+      u -= travel_cost_weight_ * (views_[i].position - current_view_->position).norm();
+    if (u > best_utility) {
+      best_utility = u;
+      best = i;
+    }
+  }
+  return best;
+}
+
 void AttentionNbvPlanner::compute(NextViewResult& out)
 {
   requireInputs("AttentionNbvPlanner::compute");
@@ -115,25 +167,33 @@ void AttentionNbvPlanner::compute(NextViewResult& out)
   sampler_->sample(rng_, views_);
   const double sample_ms = start.ms();
   if (views_.empty())
-    throw InvalidArgumentError("AttentionNbvPlanner::compute: the sampler drew no candidate");
+    throw InvalidArgumentError(
+        "AttentionNbvPlanner::compute: the sampler drew no candidate");
   const Stopwatch gain_start;
   gain_.compute(views_, gains_);
-  const double gain_ms = gain_start.ms();
+  double update_ms = gain_.getLastStats().rebuilt ? gain_.getLastStats().update_ms : 0.0;
 
-  // Arg max of the utility; strict > keeps the lowest index on ties.
-  std::size_t best = 0;
-  double best_utility = -std::numeric_limits<double>::infinity();
   double max_gain = -std::numeric_limits<double>::infinity();
-  for (std::size_t i = 0; i < views_.size(); ++i) {
-    double utility = gains_[i].gain;
-    if (travel_cost_weight_ > 0.0)
-      utility -= travel_cost_weight_ * (views_[i].position - current_view_->position).norm();
-    if (utility > best_utility) {
-      best_utility = utility;
-      best = i;
-    }
-    max_gain = std::max(max_gain, gains_[i].gain);
+  for (const ViewGain& g : gains_)
+    max_gain = std::max(max_gain, g.gain);
+  peak_gain_ = std::max(peak_gain_, max_gain);
+  out.explored = explore_share_ > 0.0 && max_gain < explore_share_ * peak_gain_;
+
+  std::size_t best;
+  double best_utility;
+  if (out.explored) {
+    explore_gain_.setConfig(gain_.getConfig());
+    explore_gain_.setNumberOfThreads(gain_.getNumberOfThreads());
+    if (explore_gain_.getInputMap() != map_)
+      explore_gain_.setInputMap(map_);
+    explore_gain_.compute(views_, explore_gains_);
+    if (explore_gain_.getLastStats().rebuilt)
+      update_ms += explore_gain_.getLastStats().update_ms;
+    best = argMax([&](std::size_t i) { return explore_gains_[i].gain; }, best_utility);
+  } else {
+    best = argMax([&](std::size_t i) { return gains_[i].gain; }, best_utility);
   }
+  const double gain_ms = gain_start.ms();
 
   out.candidates.resize(views_.size());
   for (std::size_t i = 0; i < views_.size(); ++i)
@@ -145,11 +205,12 @@ void AttentionNbvPlanner::compute(NextViewResult& out)
   out.stop = max_gain < stop_gain_;
   out.sample_ms = sample_ms;
   out.gain_ms = gain_ms;
-  out.update_ms = gain_.getLastStats().rebuilt ? gain_.getLastStats().update_ms : 0.0;
+  out.update_ms = update_ms;
   out.total_ms = start.ms();
 }
 
-// --- PredefinedPlanner ------------------------------------------------------------------
+// --- PredefinedPlanner
+// ------------------------------------------------------------------
 
 void PredefinedPlanner::setPattern(int pattern)
 {
@@ -165,9 +226,9 @@ std::vector<int> PredefinedPlanner::patternOrder(int pattern, int rows, int cols
     throw InvalidArgumentError("PredefinedPlanner::patternOrder: pattern " +
                                std::to_string(pattern) + " must be in 1..4");
   if (rows < 1 || cols < 1)
-    throw InvalidArgumentError("PredefinedPlanner::patternOrder: rows = " +
-                               std::to_string(rows) + ", cols = " + std::to_string(cols) +
-                               ": both must be >= 1");
+    throw InvalidArgumentError(
+        "PredefinedPlanner::patternOrder: rows = " + std::to_string(rows) +
+        ", cols = " + std::to_string(cols) + ": both must be >= 1");
   std::vector<int> order;
   order.reserve(static_cast<std::size_t>(rows * cols));
   auto cell = [cols](int row, int col) { return row * cols + col; };
@@ -211,18 +272,21 @@ void PredefinedPlanner::compute(NextViewResult& out)
   requireInputs("PredefinedPlanner::compute");
   const auto* sector = dynamic_cast<const CylindricalSectorSampler*>(sampler_.get());
   if (!sector)
-    throw InvalidArgumentError("PredefinedPlanner::compute: the candidate sampler must be a "
-                               "CylindricalSectorSampler (its grid cell centres are the "
-                               "pre-defined views)");
+    throw InvalidArgumentError(
+        "PredefinedPlanner::compute: the candidate sampler must be a "
+        "CylindricalSectorSampler (its grid cell centres are the "
+        "pre-defined views)");
   const Stopwatch start;
   const std::vector<Viewpoint> centres = sector->gridCellCentres();
-  const std::vector<int> order = patternOrder(pattern_, sector->getRows(), sector->getCols());
+  const std::vector<int> order =
+      patternOrder(pattern_, sector->getRows(), sector->getCols());
   const std::size_t chosen = static_cast<std::size_t>(order[step_ % order.size()]);
   ++step_;
   fillBaselineResult(gain_, centres, chosen, start, out);
 }
 
-// --- RandomPlanner ----------------------------------------------------------------------
+// --- RandomPlanner
+// ----------------------------------------------------------------------
 
 void RandomPlanner::compute(NextViewResult& out)
 {

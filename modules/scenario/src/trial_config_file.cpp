@@ -84,6 +84,8 @@ void readTrialConfig(const YamlReader& r, const YAML::Node& root, const std::str
         into(r, c.roi_source.detector_false_positives, number)},
        {"prior_internode", into(r, c.roi_source.prior_internode_m, number)},
        {"stop_gain_bits", into(r, c.stop_gain_bits, number)},
+       {"explore_share", into(r, c.explore_share, number)},
+       {"view_spacing", into(r, c.view_spacing_m, number)},
        {"seed", into(r, c.seed, "a seed (integer >= 0)")},
        {"time_limit_s", into(r, c.time_limit_s, number)},
        {"memory_cap_gib",
@@ -126,7 +128,9 @@ void readTrialConfig(const YamlReader& r, const YAML::Node& root, const std::str
                     {{"rays_x", into(r, g.rays_x, integer)},
                      {"rays_y", into(r, g.rays_y, integer)},
                      {"raycast_range", into(r, g.raycast_range_m, number)},
-                     {"visibility_weighted", into(r, g.visibility_weighted, boolean)}});
+                     {"visibility_weighted", into(r, g.visibility_weighted, boolean)},
+                     {"unknown_only", into(r, g.unknown_only, boolean)},
+                     {"unknown_depth", into(r, g.unknown_depth, integer)}});
         }},
        {"scene", [&](const YAML::Node& n, const std::string& k) {
           r.forEach(n, k,

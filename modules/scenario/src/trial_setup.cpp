@@ -251,6 +251,8 @@ void setUpTrial(const PlacedPlant& placed, const Roi& attention,
 {
   trial.setPlant(std::make_shared<Plant>(placed.plant));
   trial.setAttentionRoi(attention);
+  if (const Roi* whole = placed.roi(RoiKind::whole_plant))
+    trial.setExplorationRoi(*whole);
   trial.setEvaluationLevels(levels);
 }
 

@@ -66,7 +66,12 @@ void ActiveVisionSession::setPlanner(ViewPlanner::Ptr planner)
   const Roi roi = planner_ ? planner_->getRoi() : Roi();
   const std::optional<Viewpoint> current =
       planner_ ? planner_->getCurrentView() : std::nullopt;
+  const std::vector<Eigen::Vector3d> visited =
+      planner_ ? planner_->getVisitedPositions() : std::vector<Eigen::Vector3d>();
   planner_ = std::move(planner);
+  planner_->clearVisitedPositions();
+  for (const Eigen::Vector3d& p : visited)
+    planner_->addVisitedPosition(p);
   planner_->setInputMap(map_);
   planner_->setCandidateSampler(sampler_);
   planner_->setRoi(roi);
@@ -100,6 +105,7 @@ void ActiveVisionSession::integrate(const DepthImage& depth,
                                     const CameraIntrinsics& intrinsics, const Pose& T_W_O)
 {
   integrateDepthFrame(*map_, depth, intrinsics, T_W_O, *frame_W_);
+  planner_->addVisitedPosition(T_W_O.position);
 }
 
 void integrateDepthFrame(OccupancyMap& map, const DepthImage& depth,
@@ -115,12 +121,14 @@ void ActiveVisionSession::integrate(const CloudXYZ& cloud_W,
                                     const Eigen::Vector3d& origin_W)
 {
   map_->insert(cloud_W, origin_W);
+  planner_->addVisitedPosition(origin_W);
 }
 
 void ActiveVisionSession::integrate(const CloudXYZL& cloud_W,
                                     const Eigen::Vector3d& origin_W)
 {
   map_->insert(cloud_W, origin_W);
+  planner_->addVisitedPosition(origin_W);
 }
 
 void ActiveVisionSession::nextBestView(NextBestView& out)

@@ -43,6 +43,21 @@ struct LevelScore {
   std::size_t reconstruction_points = 0; ///< occupied voxels in the level's boxes
 };
 
+/// \brief How much of one organ of the whole plant the reconstruction holds.
+struct OrganRecall {
+  PartLabel organ = PartLabel::unknown; ///< which organ
+  /// Ground-truth voxels holding this organ's surface (a voxel where two organs meet
+  /// counts for both).
+  std::size_t reference_points = 0;
+  /// Share of them closer than rho to the reconstruction, in [0, 1]; NaN when the plant
+  /// has no surface of this organ (no fruit yet, or an unlabelled model).
+  double recall = 0.0;
+};
+
+/// \brief The organs computeOrganRecall reports, in its order: stem, petiole, leaflet,
+/// peduncle, fruit.
+const std::vector<PartLabel>& evaluatedOrgans();
+
 /// \brief The voxels behind one level's scores, sorted by outcome (metres, world frame),
 /// e.g. to colour a picture of a reconstruction.
 struct VoxelOutcomes {
@@ -124,6 +139,13 @@ public:
   /// per thread.
   void compute(const CloudXYZ& reconstruction, std::vector<LevelScore>& scores) const;
 
+  /// \brief Recall per organ (evaluatedOrgans(), in order) over the whole plant,
+  /// uncropped, as compute() scores recall (background left out, distance < rho): which
+  /// organs a reconstruction misses. The organs are the part labels of the ground
+  /// truth's samples (the mesh's triangles, or a scan's labels). Not thread-safe, as
+  /// compute().
+  void computeOrganRecall(const CloudXYZ& reconstruction,
+                          std::vector<OrganRecall>& recalls) const;
   /// \brief The voxels that compute() scores at level `level` (index into the levels),
   /// by outcome: the background left out, cropped to the union of the level's boxes
   /// (as one, also for a level with average_boxes), matched at distance < rho.

@@ -50,6 +50,9 @@ struct StoredTrial {
   std::vector<std::string> level_names; ///< the evaluation levels, in order
   std::vector<std::vector<LevelScore>>
       views; ///< [view][level]; NaN where the file has null
+  /// [view][organ] recall, organs as evaluatedOrgans(); NaN where the file has null;
+  /// empty for files written before organ recall was recorded.
+  std::vector<std::vector<double>> organ_recall;
 };
 
 /// \class ResultStore
@@ -70,9 +73,10 @@ struct StoredTrial {
 /// ("done" or "failed"); error (failed only); levels (names); views (per view: index,
 /// pose [x, y, z, qx, qy, qz, qw], gain (null for v0), candidates, occupied_voxels, the
 /// timings plan_ms, capture_ms, insert_ms, eval_ms, and per level precision, recall, f1,
-/// chamfer, null when NaN); stopped_early, setup_ms, total_ms. Numbers are written in
-/// their shortest round-trip form, so two runs give the same bytes apart from the keys
-/// that end in "_ms". Thread-safe: trials may be written from several threads.
+/// chamfer, null when NaN; organs: recall per organ of evaluatedOrgans() by name, null
+/// when NaN; older files have none); stopped_early, setup_ms, total_ms. Numbers are
+/// written in their shortest round-trip form, so two runs give the same bytes apart from
+/// the keys that end in "_ms". Thread-safe: trials may be written from several threads.
 
 /// \brief The largest Chamfer distance a result file may hold (metres; a scene is a few
 /// metres across).

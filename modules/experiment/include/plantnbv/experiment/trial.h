@@ -83,6 +83,14 @@ struct TrialConfig {
   GainConfig gain;
   /// AttentionNbvPlanner: stop when the best gain is below this (bits); 0 never stops.
   double stop_gain_bits = 0.0;
+  /// AttentionNbvPlanner: explore the Trial's exploration region once the best gain in
+  /// the ROI falls below this share of its largest (AttentionNbvPlanner::setExploration);
+  /// in [0, 1], 0 (default, the paper's) never explores.
+  double explore_share = 0.0;
+  /// AttentionNbvPlanner: a candidate closer than this to an earlier view is chosen only
+  /// when every candidate is (AttentionNbvPlanner::setViewSpacing); metres, 0 (the
+  /// paper's): none.
+  double view_spacing_m = kDefaultViewSpacingM;
 
   /// v0 (Table 1) for a plant whose base is at paperPlantBase(); it is translated with
   /// the plant's base, so that every planner starts from the same view of the plant.
@@ -128,9 +136,12 @@ public:
 
 /// \brief What happened at one view.
 struct TrialStep {
-  int index = 0;                   ///< 0 = v0
-  Viewpoint view;                  ///< the camera body pose of this view (world frame)
-  double gain = 0.0;               ///< the chosen view's gain (bits); NaN for v0
+  int index = 0;     ///< 0 = v0
+  Viewpoint view;    ///< the camera body pose of this view (world frame)
+  double gain = 0.0; ///< the chosen view's gain (bits); NaN for v0
+  /// Of the voxels the chosen view's gain counted in the ROI, the unknown ones (0 for
+  /// v0): a gain made of known voxels re-observes what the map has seen.
+  std::size_t unknown_seen = 0;
   std::size_t candidates = 0;      ///< the candidates the view was chosen from; 0 for v0
   double plan_ms = 0.0;            ///< 0 for v0
   double capture_ms = 0.0;         ///< rendering the depth frame
@@ -138,6 +149,7 @@ struct TrialStep {
   double eval_ms = 0.0;            ///< scoring the map against ground truth
   std::size_t occupied_voxels = 0; ///< in the whole map after this view
   std::vector<LevelScore> scores;  ///< per evaluation level, in the Trial's order
+  std::vector<OrganRecall> organs; ///< recall per organ of the whole plant
 };
 
 /// \brief A frame as the trial integrated it (TrialConfig::depth_scale > 0: rounded).
@@ -194,6 +206,10 @@ public:
   /// baselines' views), before TrialConfig::roi_source. Empty: every voxel counts (plain
   /// volumetric NBV).
   void setAttentionRoi(const Roi& roi) { attention_ = roi; }
+  /// \brief Where the NBV planner explores once its ROI has little left to give
+  /// (TrialConfig::explore_share; scenario::setUpTrial gives the plant's whole-plant
+  /// ROI). Empty (default): every voxel.
+  void setExplorationRoi(const Roi& roi) { exploration_ = roi; }
   /// \brief The ROI the planner attended to in the last run(): the attention ROI after
   /// TrialConfig::roi_source (empty before run()).
   const Roi& getAttendedRoi() const { return attended_; }
@@ -234,6 +250,7 @@ private:
   TrialConfig config_;
   std::shared_ptr<const Plant> plant_;
   Roi attention_;
+  Roi exploration_;
   Roi attended_;
   std::vector<EvaluationLevel> levels_;
   std::function<void(const TrialStep&)> callback_;

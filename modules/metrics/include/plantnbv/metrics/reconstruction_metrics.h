@@ -101,6 +101,8 @@ public:
   /// set.
   void computeDistances(std::vector<double>& reconstruction_to_reference,
                         std::vector<double>& reference_to_reconstruction) const;
+  /// \brief As computeDistances, T to R only (what recall needs, at half the cost).
+  void computeDistances(std::vector<double>& reference_to_reconstruction) const;
 
 private:
   struct Impl;

@@ -41,6 +41,25 @@ struct GainConfig {
   /// voxel seen by several rays takes its largest visibility); rays then do not stop at
   /// occupied voxels but at the range. Default false (the paper's gain).
   bool visibility_weighted = false;
+  /// Beyond the paper: count only voxels never observed (unknown, 1 bit each); an
+  /// observed voxel adds nothing, however uncertain. The paper's gain counts
+  /// every voxel's entropy, and with its sensor model a voxel seen free once keeps 0.97
+  /// bits and a free voxel at the clamping bound 0.53 bits for ever, so it keeps
+  /// rewarding views that look again at known free space (docs/planning.md, "What the
+  /// gain counts"); with visibility_weighted, each unknown voxel counts its visibility.
+  /// Default true, chosen by the main study (docs/planning.md); false is the paper's.
+  bool unknown_only = true;
+  /// Beyond the paper: a ray counts at most its first `unknown_depth` unknown voxels in
+  /// the ROI (known ones still count); deeper ones are likely hidden behind the
+  /// surface the ray would meet first. Without it, a ray that grazes a large unknown
+  /// ROI counts hundreds of voxels, and the gain favours views along the ROI's long
+  /// axis over views that would see new surface (docs/planning.md). Default 3, chosen by
+  /// the main study; 0 (the paper's): no limit.
+  int unknown_depth = 3;
+
+  /// \brief The paper's gain: every voxel's entropy, no depth limit (unknown_only false,
+  /// unknown_depth 0), the rest as the defaults.
+  static GainConfig paper();
 
   /// \brief Checks every field. \throws InvalidArgumentError naming the first bad field,
   /// its value and the expected range.
@@ -64,12 +83,14 @@ struct ViewGain {
 /// i from the left and row j from the top is number j * rays_x + i), each up to
 /// raycast_range_m. A ray's voxels are OctoMap's computeRayKeys(origin, end) (end voxel
 /// excluded; origin and end in single precision as OctoMap has them) followed by the end
-/// voxel; walked in order, each joins X_v, and an occupied voxel (probability > the
-/// map's threshold) stops the ray after it. Then
+/// voxel; walked in order, each joins X_v (an unknown voxel of the ROI only among the
+/// ray's first unknown_depth), and an occupied voxel (probability > the map's
+/// threshold) stops the ray after it. Then
 ///   G_v = sum over distinct voxels x of X_v whose centre lies in the ROI of H(p(x)),
 /// H = occupancyEntropy, p = the map's probability (unknown: 0.5, 1 bit). An empty ROI
 /// counts every voxel (the paper's plain NBV). With visibility_weighted each term is
-/// multiplied by the voxel's visibility (see GainConfig).
+/// multiplied by the voxel's visibility (see GainConfig); with unknown_only H is 1 for an
+/// unknown voxel and 0 for a known one.
 ///
 /// The result equals referenceInformationGain() (the straightforward octree walk) to
 /// floating-point rounding (the same voxels, summed in another order), but is computed
@@ -83,7 +104,8 @@ struct ViewGain {
 /// docs/performance.md ("Planning") the timings against the reference.
 ///
 /// The snapshot is rebuilt by update(), and by compute() whenever the map's revision()
-/// changed, the map or ROI was replaced, or visibility_weighted changed; its cost is in
+/// changed, the map or ROI was replaced, or visibility_weighted or unknown_only changed;
+/// its cost is in
 /// getLastStats().update_ms.
 ///
 /// Thread safety: compute() and update() must not run concurrently with anything else on
@@ -175,8 +197,9 @@ private:
 /// benchmark): per ray, OctoMap's computeRayKeys + the end key, a tree search per voxel,
 /// stop at the first occupied voxel (it counts), a std::unordered_set of keys for X_v,
 /// then the sum of entropies of the keys whose voxel centre lies in the ROI
-/// (Roi::contains on the centre; empty ROI: all). With visibility_weighted: no stop, a
-/// map from key to its largest visibility. Rays are those of InformationGain (same ends,
+/// (Roi::contains on the centre; empty ROI: all; with unknown_only, the count of the
+/// unknown ones). With visibility_weighted: no stop, a map from key to its largest
+/// visibility. Rays are those of InformationGain (same ends,
 /// same order); rays_cast counts every ray inside the octree. Single-threaded. \throws
 /// InvalidArgumentError as GainConfig::validate().
 ViewGain referenceInformationGain(const OccupancyMap& map, const Roi& roi,

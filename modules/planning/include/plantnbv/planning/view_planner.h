@@ -40,7 +40,10 @@ struct NextViewResult {
   double utility = std::numeric_limits<double>::quiet_NaN();
   /// Every candidate considered (baselines: the ones drawn / the grid).
   std::vector<CandidateView> candidates;
-  bool stop = false;    ///< best gain < the stop threshold (NBV only)
+  bool stop = false; ///< best gain < the stop threshold (NBV only)
+  /// The NBV planner ranked the candidates by their gain in its exploration region
+  /// (AttentionNbvPlanner::setExploration); `utility` is that gain then.
+  bool explored = false;
   double sample_ms = 0; ///< drawing the candidates
   double gain_ms = 0;   ///< gains, including update_ms
   double update_ms = 0; ///< rebuilding the map snapshot (InformationGain::update)
@@ -70,6 +73,17 @@ public:
   void setCandidateSampler(ViewpointSampler::ConstPtr sampler);
   /// \brief The camera's current view (for a travel cost).
   void setCurrentView(const Viewpoint& view) { current_view_ = view; }
+  /// \brief Records a position the camera has taken a frame from (world frame, metres;
+  /// ActiveVisionSession records every frame it integrates), for
+  /// AttentionNbvPlanner::setViewSpacing.
+  void addVisitedPosition(const Eigen::Vector3d& position_W)
+  {
+    visited_W_.push_back(position_W);
+  }
+  /// \brief The positions recorded by addVisitedPosition, oldest first.
+  const std::vector<Eigen::Vector3d>& getVisitedPositions() const { return visited_W_; }
+  /// \brief Forgets the visited positions (a new map, a new plant).
+  void clearVisitedPositions() { visited_W_.clear(); }
   /// \brief The attention ROI (also used to report the chosen view's gain for the
   /// baselines); empty = everything counts. \throws InvalidArgumentError as
   /// InformationGain::setRoi.
@@ -110,10 +124,15 @@ protected:
   std::shared_ptr<const OccupancyMap> map_; ///< the map (setInputMap)
   ViewpointSampler::ConstPtr sampler_;      ///< the candidates' source
   std::optional<Viewpoint> current_view_;   ///< the camera's view, if set
+  std::vector<Eigen::Vector3d> visited_W_;  ///< where frames were taken from
   InformationGain gain_;   ///< the gain calculator (config, ROI, threads)
   std::uint64_t seed_ = 0; ///< the seed of rng_
   Rng rng_{0};             ///< draws candidates; reseeded by setSeed()
 };
+
+/// \brief AttentionNbvPlanner's default view spacing (metres), chosen by the main study
+/// (docs/planning.md, "What the gain counts"); the paper's planner has none (0).
+constexpr double kDefaultViewSpacingM = 0.2;
 
 /// \brief The attention-driven NBV planner (paper Algorithm 1): draws candidates from
 /// the sampler, computes the gain of every one in the ROI, and picks the arg max (ties:
@@ -121,9 +140,31 @@ protected:
 ///
 /// Optional, beyond the paper: with a travel-cost weight lambda > 0 the chosen candidate
 /// maximises the utility gain - lambda * |position - current position| (metres; needs
-/// setCurrentView()).
+/// setCurrentView()). With an exploration share, it explores once the ROI has little
+/// left to give (setExploration).
 class AttentionNbvPlanner : public ViewPlanner {
 public:
+  /// \brief Optional, beyond the paper (Zaenker et al.'s switch from the ROI to
+  /// exploration): once the best gain in the ROI falls below `share` times the largest
+  /// best gain of the planner's steps so far, the candidates are ranked by their gain in
+  /// `region` instead (same GainConfig; empty region: every voxel), until the ROI's gain
+  /// rises again. The travel cost applies to either. Calling it starts the count of
+  /// steps afresh. share in [0, 1]; 0 (default) never explores. \throws
+  /// InvalidArgumentError for a share outside [0, 1] or a bad region box (as
+  /// InformationGain::setRoi).
+  void setExploration(double share, const Roi& region = Roi());
+  /// \brief The exploration share (0: never explores).
+  double getExplorationShare() const { return explore_share_; }
+  /// \brief Beyond the paper: a candidate closer than `spacing_m` to a visited position
+  /// (addVisitedPosition) is chosen only when every candidate is; greedy views otherwise
+  /// cluster where the gain's sparse rays still see something, and leave parts of the
+  /// sector unvisited (docs/planning.md). Metres, >= 0; default kDefaultViewSpacingM; 0
+  /// (the paper's): no spacing. \throws InvalidArgumentError for a negative or non-finite
+  /// spacing.
+  void setViewSpacing(double spacing_m);
+  /// \brief The view spacing in metres (0: none).
+  double getViewSpacing() const { return view_spacing_m_; }
+
   /// \brief `stop` is set when the best gain is below `bits` (default 0: never).
   /// \throws InvalidArgumentError for NaN.
   void setStopGain(double bits);
@@ -141,10 +182,21 @@ public:
   std::string name() const override { return "nbv"; }
 
 private:
+  /// The arg max of utility(i) - lambda * travel distance over the candidates far
+  /// enough from visited positions (all when none is); strict > keeps the lowest index
+  /// on ties. Returns the index, and the best utility in `best_utility`.
+  template <typename Utility>
+  std::size_t argMax(Utility utility, double& best_utility) const;
+
   double stop_gain_ = 0.0;
   double travel_cost_weight_ = 0.0;
+  double explore_share_ = 0.0;
+  double view_spacing_m_ = kDefaultViewSpacingM;
+  double peak_gain_ = 0.0;       ///< the largest best ROI gain since setExploration()
+  InformationGain explore_gain_; ///< the gain in the exploration region
   std::vector<Viewpoint> views_;
   std::vector<ViewGain> gains_;
+  std::vector<ViewGain> explore_gains_;
 };
 
 /// \brief The pre-defined baseline: the centres of the sampler's grid cells

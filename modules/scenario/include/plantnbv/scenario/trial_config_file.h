@@ -25,12 +25,14 @@ namespace scenario {
 /// depth_scale: number (depth units per metre; 0: the sensor's float depth)
 /// planner: nbv | predefined | random        pattern: 1-4
 /// stop_gain_bits: number                    seed: int
+/// explore_share: number in [0, 1]          view_spacing: number (metres)
 /// time_limit_s: number (0: none)            memory_cap_gib: number (default 8)
 /// initial_view: {position: [x, y, z], orientation: [qx, qy, qz, qw]}
 /// sector: {radius, height, bottom, angle_deg, rows, cols, samples_per_cell}
 /// map: {resolution, prob_hit, prob_miss, clamp_min, clamp_max, occupancy_threshold,
 ///       max_range}
-/// gain: {rays_x, rays_y, raycast_range, visibility_weighted}
+/// gain: {rays_x, rays_y, raycast_range, visibility_weighted, unknown_only,
+///        unknown_depth}
 /// scene: {floor: bool, support: bool}
 /// \endcode
 /// An empty file changes nothing.

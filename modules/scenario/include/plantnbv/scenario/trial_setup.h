@@ -118,7 +118,8 @@ std::vector<std::string> trialWarnings(const PlacedPlant& placed,
                                        const TrialConfig& config, const Roi& attention,
                                        const std::vector<EvaluationLevel>& levels);
 
-/// \brief Gives `trial` the plant, the attention ROI and the levels.
+/// \brief Gives `trial` the plant, the attention ROI, the levels and, as its exploration
+/// region, the plant's whole-plant ROI.
 void setUpTrial(const PlacedPlant& placed, const Roi& attention,
                 const std::vector<EvaluationLevel>& levels, Trial& trial);
 
