@@ -48,6 +48,7 @@ struct PlanOptions {
   std::optional<int> candidates;
   std::vector<double> current_pose;
   std::optional<double> travel_cost;
+  std::string visited;
   std::string camera = "l515-640";
   std::optional<std::uint64_t> seed;
   std::optional<int> threads;
@@ -190,6 +191,13 @@ void runPlan(const PlanOptions& o)
   }
   if (current)
     session.setCurrentView(bodyFrame(*current));
+  // A saved map keeps no poses: the frames' positions for the view spacing come apart.
+  if (auto* nbv = dynamic_cast<AttentionNbvPlanner*>(&session.getPlanner())) {
+    nbv->setViewSpacing(config.view_spacing_m);
+    if (!o.visited.empty())
+      for (const io::StampedPose& p : io::readTumTrajectory(o.visited))
+        nbv->addVisitedPosition(p.pose.position);
+  }
   session.setRoi(roi);
   Stopwatch read_clock;
   const bool has_probabilities = session.readMap(o.map);
@@ -318,6 +326,10 @@ void addPlanCommand(CLI::App& app)
   cmd->add_option(
       "--travel-cost", o->travel_cost,
       "Bits per metre of travel from --current-pose subtracted from the gain");
+  cmd->add_option("--visited", o->visited,
+                  "Where the frames were taken from: a TUM trajectory (a frames folder's "
+                  "groundtruth.txt); the best view is chosen at least the config's "
+                  "view_spacing (0.2 m) from them when a candidate is");
   cmd->add_option("--camera", o->camera,
                   "The candidates' camera: camera.yaml, l515, l515-640, l515-320 or "
                   "WxH:fx,fy,cx,cy")

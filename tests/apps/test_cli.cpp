@@ -1260,6 +1260,27 @@ TEST_F(RealRobotCliTest, PlanRanksTheCandidatesAsJsonAndPrintsThePoseAlone)
   EXPECT_EQ(printed, poseNumbers(j["best"]["optical_pose"])) << pose.out;
 }
 
+TEST_F(RealRobotCliTest, PlanKeepsItsViewAwayFromTheVisitedPositions)
+{
+  capture("F");
+  integrate("F", "m.ot");
+  const nlohmann::json free = planJson("--map " + path("m.ot"));
+  const std::vector<double> best = poseNumbers(free["best"]["optical_pose"]);
+  // A frame was taken at the best candidate: the next best view keeps 0.2 m from it.
+  write("visited.txt", "1.0 " + std::to_string(best[0]) + " " + std::to_string(best[1]) +
+                           " " + std::to_string(best[2]) + " 0 0 0 1\n");
+  const nlohmann::json spaced =
+      planJson("--map " + path("m.ot") + " --visited " + path("visited.txt"));
+  const std::vector<double> other = poseNumbers(spaced["best"]["optical_pose"]);
+  EXPECT_GE(std::hypot(other[0] - best[0], other[1] - best[1], other[2] - best[2]), 0.2);
+  EXPECT_LT(spaced["best"]["gain"].get<double>(), free["best"]["gain"].get<double>());
+  // The paper's planner has no spacing.
+  write("paper.yaml", "view_spacing: 0\n");
+  EXPECT_EQ(planJson("--map " + path("m.ot") + " --visited " + path("visited.txt") +
+                     " --config " + path("paper.yaml"))["best"],
+            free["best"]);
+}
+
 TEST_F(RealRobotCliTest, PlanOnAnRoiNoCandidateReachesSaysEveryGainIsZero)
 {
   capture("F");

@@ -187,6 +187,7 @@ const std::vector<BadCall> kBadCalls = {
      "cut.ot' is truncated or not a valid OctoMap (.ot) file"},
     // plan (on {d}/good.ot, the map of {d}/good, unless the map is what is wrong)
     {"plan --map {d}/notamap.ot", 1, "notamap.ot' is not an OctoMap file"},
+    {"plan --map {d}/good.ot --visited {d}/nope.txt", 1, "nope.txt: no such file"},
     {"plan --map {d}/notamap.bt", 1, "notamap.bt' is not an OctoMap file"},
     {"plan --map {d}/cut.ot", 1,
      "cut.ot' is truncated or not a valid OctoMap (.ot) file"},

@@ -484,8 +484,7 @@ ViewGain computeGeneral(const Snapshot& snap, const Bricks<CodeT>& bricks,
   return result;
 }
 
-// --- the fast kernel (ROI, unweighted)
-// --------------------------------------------------
+// --- the fast kernel (ROI, unweighted) -------------------------------------------------
 
 #define PLANTNBV_ALWAYS_INLINE inline __attribute__((always_inline))
 

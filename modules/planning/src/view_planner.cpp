@@ -83,8 +83,7 @@ void ViewPlanner::requireInputs(const char* who) const
                                ": no candidate sampler set (setCandidateSampler)");
 }
 
-// --- AttentionNbvPlanner
-// ----------------------------------------------------------------
+// --- AttentionNbvPlanner ---------------------------------------------------------------
 
 void AttentionNbvPlanner::setStopGain(double bits)
 {
@@ -209,8 +208,7 @@ void AttentionNbvPlanner::compute(NextViewResult& out)
   out.total_ms = start.ms();
 }
 
-// --- PredefinedPlanner
-// ------------------------------------------------------------------
+// --- PredefinedPlanner -----------------------------------------------------------------
 
 void PredefinedPlanner::setPattern(int pattern)
 {
@@ -285,8 +283,7 @@ void PredefinedPlanner::compute(NextViewResult& out)
   fillBaselineResult(gain_, centres, chosen, start, out);
 }
 
-// --- RandomPlanner
-// ----------------------------------------------------------------------
+// --- RandomPlanner ---------------------------------------------------------------------
 
 void RandomPlanner::compute(NextViewResult& out)
 {
