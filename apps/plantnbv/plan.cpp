@@ -191,7 +191,7 @@ void runPlan(const PlanOptions& o)
   }
   if (current)
     session.setCurrentView(bodyFrame(*current));
-  // A saved map keeps no poses: the frames' positions for the view spacing come apart.
+  // A saved map keeps no poses: the view spacing needs the frames' positions (--visited).
   if (auto* nbv = dynamic_cast<AttentionNbvPlanner*>(&session.getPlanner())) {
     nbv->setViewSpacing(config.view_spacing_m);
     if (!o.visited.empty())

@@ -197,6 +197,9 @@ TEST(AttentionNbvPlanner, ViewSpacingPassesOverCandidatesNearVisitedPositions)
   ASSERT_EQ(planner->getVisitedPositions().size(), 2u);
   planner->clearVisitedPositions();
   EXPECT_TRUE(planner->getVisitedPositions().empty());
+  planner->setVisitedPositions({kClear.position});
+  planner->compute(result);
+  EXPECT_EQ(result.chosen, 1u); // as with the one recorded near kClear
   for (double bad : {-0.1, std::nan(""), HUGE_VAL})
     EXPECT_THROW(planner->setViewSpacing(bad), InvalidArgumentError);
 }

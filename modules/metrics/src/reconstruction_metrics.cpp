@@ -190,13 +190,10 @@ void ReconstructionMetrics::computeDistances(
     std::vector<double>& reconstruction_to_reference,
     std::vector<double>& reference_to_reconstruction) const
 {
-  requireClouds(impl_ && impl_->has_reference, impl_ && impl_->has_reconstruction,
-                "computeDistances");
-  const int threads = threads_ > 0 ? threads_ : omp_get_max_threads();
-  directedDistances(impl_->reconstruction, impl_->reference, threads,
+  computeDistances(reference_to_reconstruction); // checks the clouds
+  directedDistances(impl_->reconstruction, impl_->reference,
+                    threads_ > 0 ? threads_ : omp_get_max_threads(),
                     reconstruction_to_reference);
-  directedDistances(impl_->reference, impl_->reconstruction, threads,
-                    reference_to_reconstruction);
 }
 
 void ReconstructionMetrics::computeDistances(
@@ -204,8 +201,8 @@ void ReconstructionMetrics::computeDistances(
 {
   requireClouds(impl_ && impl_->has_reference, impl_ && impl_->has_reconstruction,
                 "computeDistances");
-  const int threads = threads_ > 0 ? threads_ : omp_get_max_threads();
-  directedDistances(impl_->reference, impl_->reconstruction, threads,
+  directedDistances(impl_->reference, impl_->reconstruction,
+                    threads_ > 0 ? threads_ : omp_get_max_threads(),
                     reference_to_reconstruction);
 }
 

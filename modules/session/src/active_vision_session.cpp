@@ -66,12 +66,10 @@ void ActiveVisionSession::setPlanner(ViewPlanner::Ptr planner)
   const Roi roi = planner_ ? planner_->getRoi() : Roi();
   const std::optional<Viewpoint> current =
       planner_ ? planner_->getCurrentView() : std::nullopt;
-  const std::vector<Eigen::Vector3d> visited =
+  std::vector<Eigen::Vector3d> visited =
       planner_ ? planner_->getVisitedPositions() : std::vector<Eigen::Vector3d>();
   planner_ = std::move(planner);
-  planner_->clearVisitedPositions();
-  for (const Eigen::Vector3d& p : visited)
-    planner_->addVisitedPosition(p);
+  planner_->setVisitedPositions(std::move(visited));
   planner_->setInputMap(map_);
   planner_->setCandidateSampler(sampler_);
   planner_->setRoi(roi);

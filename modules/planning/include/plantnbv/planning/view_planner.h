@@ -80,6 +80,12 @@ public:
   {
     visited_W_.push_back(position_W);
   }
+  /// \brief Replaces the recorded positions (world frame, metres), e.g. a new planner
+  /// taking over a session's.
+  void setVisitedPositions(std::vector<Eigen::Vector3d> positions_W)
+  {
+    visited_W_ = std::move(positions_W);
+  }
   /// \brief The positions recorded by addVisitedPosition, oldest first.
   const std::vector<Eigen::Vector3d>& getVisitedPositions() const { return visited_W_; }
   /// \brief Forgets the visited positions (a new map, a new plant).
