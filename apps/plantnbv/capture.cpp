@@ -69,7 +69,7 @@ void renderSnapshot(const scenario::PlacedPlant& placed, const CloudXYZL& cloud,
   for (const pcl::PointXYZL& p : cloud.points)
     if (!std::isfinite(p.x)) {
       continue;
-    } else if (p.label < std::uint32_t(PartLabel::background)) {
+    } else if (p.label != std::uint32_t(PartLabel::background)) {
       points.push_back(p.getVector3fMap());
       labels.push_back(static_cast<PartLabel>(p.label));
     } else {

@@ -61,9 +61,9 @@ std::string summary(const PlacedPlant& placed)
   s << ", " << (scan ? p.scan_points.size() : p.mesh.size())
     << (scan ? " scan points (" : " triangles (");
   // Elements per part: shows at a glance whether a --labels mapping matched.
-  std::vector<std::size_t> per_label(7, 0);
+  std::vector<std::size_t> per_label(std::size_t(kLastPartLabel) + 1, 0);
   for (PartLabel l : labels)
-    ++per_label[std::min<std::size_t>(static_cast<std::size_t>(l), 6)];
+    ++per_label[std::min(static_cast<std::size_t>(l), per_label.size() - 1)];
   bool first = true;
   for (std::size_t l = 0; l < per_label.size(); ++l)
     if (per_label[l]) {

@@ -33,7 +33,13 @@ void addPlantOptions(CLI::App& cmd, PlantOptions& o, const std::string& seed_fla
   cmd.add_flag("--simplified", s.simplified, "Remove half of the leaflets of every leaf")
       ->needs(seed);
   cmd.add_option("--labels", s.labels,
-                 "Part labels from node names, e.g. stem=Branch.*,leaflet=Leaf.*")
+                 "Part labels from node, geometry or material names, e.g. "
+                 "stem=Branch.*,leaflet=Leaf.*,flower=Blossom.*")
+      ->needs(model);
+  cmd.add_option("--model-scale", s.scale,
+                 "Metres per model file unit, e.g. 0.01 for centimetres (default: the "
+                 "file's: Collada's <unit>, else metres)")
+      ->check(CLI::PositiveNumber)
       ->needs(model);
   cmd.add_option("--rois", s.rois,
                  "Your own ROI file (YAML boxes, world frame), scored as the level "

@@ -49,6 +49,7 @@ struct ReconstructOptions {
   std::string output_dir;
   std::string snapshot;
   std::string frames_out;
+  double row_spacing_m = 0.0;
 };
 
 TrialConfig trialConfig(const ReconstructOptions& o, const PlacedPlant& placed)
@@ -119,7 +120,8 @@ nlohmann::json summaryJson(const ReconstructOptions& o, const PlacedPlant& place
       {"description", placed.description},
       {"yaw_deg", placed.source.yaw_deg},
       {"base", {placed.source.base.x(), placed.source.base.y(), placed.source.base.z()}},
-      {"keep_frame", placed.source.keep_frame}};
+      {"keep_frame", placed.source.keep_frame},
+      {"row_spacing", o.row_spacing_m}};
   const CylindricalSector& sector = trial.getSector();
   j["config"] = {
       {"planner", plannerKindName(c.planner)},
@@ -321,7 +323,11 @@ void runReconstruct(const ReconstructOptions& o)
        scenario::trialWarnings(placed, config, attention_roi, levels))
     std::cerr << "plantnbv: warning: " << w << "\n";
   scenario::setUpTrial(placed, attention_roi, levels, trial);
-  std::cout << placed.plant.name << " (" << placed.description
+  trial.setNeighbours(scenario::rowNeighbourPlants(placed, o.row_spacing_m, config));
+  std::ostringstream row;
+  if (o.row_spacing_m > 0.0)
+    row << ", in a row with a neighbour " << o.row_spacing_m << " m away on each side";
+  std::cout << placed.plant.name << " (" << placed.description << row.str()
             << "): " << plannerKindName(config.planner)
             << (config.planner == PlannerKind::predefined
                     ? " pattern " + std::to_string(config.pattern)
@@ -415,6 +421,13 @@ void addReconstructCommand(CLI::App& app)
   cmd->add_option("--sector-height", o->trial.sector_height_m,
                   "Height of the cylindrical sector in metres (0.7; a loaded model: "
                   "its height)");
+  cmd->add_option("--row-spacing", o->row_spacing_m,
+                  "Put the plant in a greenhouse row: a neighbour plant this many metres "
+                  "away on each side (default 0: alone; docs/trials.md)")
+      ->check(CLI::NonNegativeNumber);
+  cmd->add_option("--sector-radius", o->trial.sector_radius_m,
+                  "Distance of the views from the stem in metres (0.4; a plant over 1 m: "
+                  "docs/plants.md, \"Tall models\")");
   cmd->add_option("--seed", o->trial.seed, "Seed of the trial (default 0)")
       ->check(unsignedInteger());
   cmd->add_option("--threads", o->trial.threads, "Threads (default: all cores)")

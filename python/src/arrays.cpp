@@ -173,12 +173,12 @@ std::vector<PartLabel> readPartLabels(const py::handle& labels, const char* argu
   if (labels.is_none())
     return {};
   const std::vector<std::uint32_t> l = readIndexLike(
-      labels, argument, expected_count, "an (N,) array of part labels (integers 0-6)");
+      labels, argument, expected_count, "an (N,) array of part labels (integers 0-7)");
   std::vector<PartLabel> out(l.size());
   for (std::size_t i = 0; i < l.size(); ++i) {
-    if (l[i] > std::uint32_t(PartLabel::background))
+    if (l[i] > std::uint32_t(kLastPartLabel))
       throw py::value_error(std::string(argument) + "[" + std::to_string(i) +
-                            "]: expected a part label 0-6 (plantnbv.PART_LABELS), got " +
+                            "]: expected a part label 0-7 (plantnbv.PART_LABELS), got " +
                             std::to_string(l[i]));
     out[i] = PartLabel(l[i]);
   }

@@ -31,7 +31,7 @@ void readLabelledPoints(const py::handle& points, const py::handle& labels,
                         const char* argument, CloudXYZL& cloud);
 std::vector<Eigen::Vector3f> readPointVector(const py::handle& points,
                                              const char* argument);
-/// Part labels: an (N,) integer array of PartLabel values (0-6); None gives none.
+/// Part labels: an (N,) integer array of PartLabel values (0-7); None gives none.
 std::vector<PartLabel> readPartLabels(const py::handle& labels, const char* argument,
                                       std::size_t expected_count);
 

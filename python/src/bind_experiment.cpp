@@ -122,7 +122,8 @@ void checkSignals()
 
 TrialRun runTrial(const scenario::PlacedPlant& placed, const std::string& planner,
                   const std::string& attention_name, const scenario::TrialOverrides& o,
-                  const std::optional<Path>& map_out, const py::object& progress)
+                  double row_spacing_m, const std::optional<Path>& map_out,
+                  const py::object& progress)
 {
   scenario::TrialOverrides overrides = o;
   overrides.planner = planner;
@@ -144,6 +145,7 @@ TrialRun runTrial(const scenario::PlacedPlant& placed, const std::string& planne
       const std::vector<EvaluationLevel> levels = scenario::evaluationLevels(placed);
       scenario::setUpTrial(placed, scenario::attentionRoi(placed, attention), levels,
                            trial);
+      trial.setNeighbours(scenario::rowNeighbourPlants(placed, row_spacing_m, config));
       for (const EvaluationLevel& l : levels)
         names.push_back(l.name);
     }
@@ -280,6 +282,7 @@ void bindExperiment(py::module_& m)
          const std::string& attention, std::optional<int> pattern,
          std::optional<int> views, std::optional<int> candidates,
          std::optional<double> resolution_m, std::optional<double> sector_height_m,
+         std::optional<double> sector_radius_m, double row_spacing_m,
          std::optional<std::uint64_t> seed, std::optional<int> threads,
          std::optional<double> depth_scale, std::optional<CameraIntrinsics> camera,
          std::optional<bool> noise, std::optional<bool> background,
@@ -295,6 +298,7 @@ void bindExperiment(py::module_& m)
         o.candidates = candidates;
         o.resolution_m = resolution_m;
         o.sector_height_m = sector_height_m;
+        o.sector_radius_m = sector_radius_m;
         o.seed = seed;
         o.threads = threads;
         o.depth_scale = depth_scale;
@@ -307,14 +311,15 @@ void bindExperiment(py::module_& m)
                  detector_recall,
                  detector_false_positives,
                  prior_internode};
-        return runTrial(placed, planner, attention, o, map_out, progress);
+        return runTrial(placed, planner, attention, o, row_spacing_m, map_out, progress);
       },
       "plant"_a, py::kw_only(), "planner"_a = "nbv", "attention"_a = "whole_plant",
       "pattern"_a = py::none(), "views"_a = py::none(), "candidates"_a = py::none(),
       "resolution_m"_a = py::none(), "sector_height_m"_a = py::none(),
-      "seed"_a = py::none(), "threads"_a = py::none(), "depth_scale"_a = py::none(),
-      "camera"_a = py::none(), "noise"_a = py::none(), "background"_a = py::none(),
-      "roi_source"_a = py::none(), "roi_sigma"_a = py::none(), "roi_scale"_a = py::none(),
+      "sector_radius_m"_a = py::none(), "row_spacing_m"_a = 0.0, "seed"_a = py::none(),
+      "threads"_a = py::none(), "depth_scale"_a = py::none(), "camera"_a = py::none(),
+      "noise"_a = py::none(), "background"_a = py::none(), "roi_source"_a = py::none(),
+      "roi_sigma"_a = py::none(), "roi_scale"_a = py::none(),
       "detector_recall"_a = py::none(), "detector_false_positives"_a = py::none(),
       "prior_internode"_a = py::none(), "config"_a = py::none(), "map_out"_a = py::none(),
       "progress"_a = py::none(),
@@ -327,7 +332,8 @@ void bindExperiment(py::module_& m)
       "`roi_source` 'oracle', 'noisy', 'detections', 'prior' or 'detections+prior', "
       "`roi_sigma` (metres), `roi_scale`, `detector_recall`, `detector_false_positives`, "
       "`prior_internode` (metres): where the attended ROI comes from, as the options of "
-      "the same names); "
+      "the same names); `sector_radius_m` and `row_spacing_m` (a neighbour plant this "
+      "far on each side; 0: alone) as --sector-radius and --row-spacing; "
       "`progress(step)` is called after every view; "
       "`map_out` writes the final map (.ot or .bt).");
 

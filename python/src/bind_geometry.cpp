@@ -212,7 +212,7 @@ void bindGeometry(py::module_& m)
   py::dict labels;
   for (PartLabel l :
        {PartLabel::unknown, PartLabel::stem, PartLabel::petiole, PartLabel::leaflet,
-        PartLabel::peduncle, PartLabel::fruit, PartLabel::background})
+        PartLabel::peduncle, PartLabel::fruit, PartLabel::background, PartLabel::flower})
     labels[partLabelName(l)] = std::uint32_t(l);
   m.attr("PART_LABELS") = labels;
 

@@ -79,7 +79,7 @@ def test_bad_labels_and_triangles():
         pn.voxel_grid(GOOD, labels=np.zeros(4))
     with pytest.raises(ValueError, match=r"triangles\[0\]: vertex index 5 is not in \[0, 3\)"):
         pn.Mesh(np.eye(3), [[0, 1, 5]])
-    with pytest.raises(ValueError, match=r"labels\[0\]: expected a part label 0-6"):
+    with pytest.raises(ValueError, match=r"labels\[0\]: expected a part label 0-7"):
         pn.Mesh(np.eye(3), [[0, 1, 2]], labels=[9])
 
 

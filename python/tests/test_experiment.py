@@ -60,6 +60,19 @@ def test_the_sensor_options_are_reconstructs(placed, cli, tmp_path):
     assert not np.array_equal(plain["whole_plant_f1"], ours["whole_plant_f1"])
 
 
+def test_a_row_and_a_sector_radius_are_reconstructs(placed, cli, tmp_path):
+    cli("reconstruct", "--plant", 3, "--views", 2, "--seed", 5, "--row-spacing", 0.25,
+        "--sector-radius", 0.5, "-o", tmp_path / "tool")
+    tool = steps_csv(tmp_path / "tool" / "steps.csv")
+    ours = pn.run_trial(placed, views=2, seed=5, row_spacing_m=0.25,
+                        sector_radius_m=0.5).columns()
+    for column, values in tool.items():
+        if not column.endswith("_ms"):
+            np.testing.assert_array_equal(ours[column], values, err_msg=column)
+    # The second view lies on the 0.5 m sector around the base (1, 0, 0.8).
+    assert np.hypot(ours["x"][1] - 1.0, ours["y"][1]) == pytest.approx(0.5, abs=1e-6)
+
+
 def test_a_noisy_roi_source_is_reconstructs(placed, cli, tmp_path):
     cli("reconstruct", "--plant", 3, "--views", 2, "--seed", 5, "--attention", "leaf_nodes",
         "--roi-source", "noisy", "--roi-sigma", 0.02, "-o", tmp_path / "tool")

@@ -380,9 +380,38 @@ TEST_F(CliTest, ReconstructSectorFollowsALoadedModel)
   placed.bounds(lo, hi);
   auto summary = nlohmann::json::parse(slurp(path("m/summary.json")));
   EXPECT_NEAR(summary["config"]["sector"]["height"].get<double>(), hi.z() - 0.8, 1e-6);
-  ASSERT_EQ(run(model + " --sector-height 0.5 -o " + path("n")).code, 0);
+  ASSERT_EQ(run(model + " --sector-height 0.5 --sector-radius 0.55 -o " + path("n")).code,
+            0);
   summary = nlohmann::json::parse(slurp(path("n/summary.json")));
   EXPECT_EQ(summary["config"]["sector"]["height"].get<double>(), 0.5);
+  EXPECT_EQ(summary["config"]["sector"]["radius"].get<double>(), 0.55);
+  // The file's unit replaced: 50 units tall, 2 mm each.
+  ASSERT_EQ(run(model + " --model-scale 0.002 -o " + path("s")).code, 0);
+  summary = nlohmann::json::parse(slurp(path("s/summary.json")));
+  EXPECT_NEAR(summary["config"]["sector"]["height"].get<double>(), 0.1, 1e-6);
+  EXPECT_NE(run(model + " --sector-radius -1 -o " + path("e")).code, 0);
+}
+
+TEST_F(CliTest, ReconstructInARowMapsTheNeighboursButScoresThePlantAlone)
+{
+  write("small.yaml", kSmallTrial);
+  const std::string cmd = "reconstruct --plant 3 --views 2 --config " +
+                          path("small.yaml") + " --row-spacing ";
+  ASSERT_EQ(run(cmd + "0 -o " + path("alone")).code, 0);
+  const auto row_run = run(cmd + "0.25 -o " + path("row"));
+  ASSERT_EQ(row_run.code, 0) << row_run.err;
+  EXPECT_NE(row_run.out.find("in a row with a neighbour 0.25 m away on each side"),
+            std::string::npos)
+      << row_run.out;
+  const auto alone = nlohmann::json::parse(slurp(path("alone/summary.json")));
+  const auto row = nlohmann::json::parse(slurp(path("row/summary.json")));
+  EXPECT_EQ(row["plant"]["row_spacing"].get<double>(), 0.25);
+  // The neighbours fill the map; the ground truth is the plant's alone.
+  EXPECT_GT(row["totals"]["occupied_voxels"].get<double>(),
+            alone["totals"]["occupied_voxels"].get<double>());
+  EXPECT_EQ(row["levels"]["whole_plant"]["reference_voxels"],
+            alone["levels"]["whole_plant"]["reference_voxels"]);
+  EXPECT_NE(run(cmd + "-0.1 -o " + path("bad")).code, 0);
 }
 
 TEST_F(CliTest, SnapshotNamesItsPngInEveryCommand)

@@ -38,13 +38,13 @@ CampaignDefinition paperLike()
     d.yaws_deg.push_back(y);
   const std::vector<CampaignPlanner> nbvs{nbv("whole-plant"), nbv("main-stem"),
                                           nbv("leaf-nodes")};
-  CampaignStudy main{"main", nbvs, {}, {}, {}};
+  CampaignStudy main{"main", nbvs, {}, {}, {}, {}};
   main.planners.push_back({"predefined", PlannerKind::predefined, "", {1, 2, 3, 4}, {}});
   main.planners.push_back({"random", PlannerKind::random, "", {}, {}});
   d.studies = {main,
-               {"occlusion", nbvs, {true}, {}, {}},
-               {"candidates", nbvs, {}, {9, 45}, {}},
-               {"resolution", nbvs, {}, {}, {0.005, 0.007}}};
+               {"occlusion", nbvs, {true}, {}, {}, {}},
+               {"candidates", nbvs, {}, {9, 45}, {}, {}},
+               {"resolution", nbvs, {}, {}, {0.005, 0.007}, {}}};
   return d;
 }
 
@@ -141,6 +141,41 @@ TEST(Campaign, RepetitionsAndFractionalYawsHaveTheirOwnIds)
                                            "main/random/plant00/yaw12.5/rep0",
                                            "main/random/plant00/yaw12.5/rep1"}));
   EXPECT_NE(specs[0].seed, specs[1].seed);
+}
+
+TEST(Campaign, RowSpacingsAreVariantsOfTheirStudy)
+{
+  CampaignDefinition d = paperLike();
+  d.plants.resize(1);
+  d.yaws_deg = {0};
+  d.studies.resize(1);
+  d.studies[0].name = "row";
+  d.studies[0].planners = {{"random", PlannerKind::random, "", {}, {}}};
+  d.studies[0].row_spacings_m = {0.0, 0.4, 0.25};
+  const std::vector<TrialSpec> specs = expandCampaign(d);
+  ASSERT_EQ(specs.size(), 3u);
+  EXPECT_EQ(specs[0].id, "row/random/alone/plant00/yaw000/rep0");
+  EXPECT_EQ(specs[1].id, "row/random/row40cm/plant00/yaw000/rep0");
+  EXPECT_EQ(specs[2].id, "row/random/row25cm/plant00/yaw000/rep0");
+  EXPECT_EQ(specs[0].row_spacing_m, 0.0);
+  EXPECT_EQ(specs[2].row_spacing_m, 0.25);
+  EXPECT_EQ(specs[2].variant, "row25cm");
+
+  d.studies[0].row_spacings_m = {0.4, -0.1};
+  EXPECT_THROW(
+      {
+        try {
+          expandCampaign(d);
+        } catch (const InvalidArgumentError& e) {
+          EXPECT_NE(std::string(e.what()).find("studies[0].row_spacings[1]"),
+                    std::string::npos)
+              << e.what();
+          throw;
+        }
+      },
+      InvalidArgumentError);
+  d.studies[0].row_spacings_m = {0.4, 0.4};
+  EXPECT_THROW(expandCampaign(d), InvalidArgumentError);
 }
 
 TEST(Campaign, InvalidDefinitionsNameTheField)

@@ -1,4 +1,5 @@
 // The plant scene of the experiments: the plant on its support over a floor.
+#include <memory>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -70,4 +71,34 @@ TEST(PlantScene, HasFloorAndSupportByDefault)
   SensorScene::Ptr scan_scene = makePlantScene(scan, bare);
   EXPECT_EQ(scan_scene->surfelCount(), 100u);
   EXPECT_EQ(scan_scene->triangleCount(), 0u);
+}
+
+TEST(PlantScene, NeighboursStandOnTheirOwnSupportsAsBackground)
+{
+  Plant plant = plantFromMesh(verticalQuad(), "quad");
+  posePlant(plant, Eigen::Vector3d(1.0, 0.0, 0.8), 0.0);
+  auto left = std::make_shared<Plant>(plantFromMesh(verticalQuad(), "left"));
+  posePlant(*left, Eigen::Vector3d(1.0, 0.4, 0.8), 0.0);
+  auto right = std::make_shared<Plant>(plantFromMesh(verticalQuad(), "right"));
+  posePlant(*right, Eigen::Vector3d(1.0, -0.4, 0.8), 0.0);
+  const NeighbourPlants neighbours{left, right};
+
+  const std::vector<TriangleMesh> background =
+      plantSceneBackground(plant, {}, neighbours);
+  // Floor, the plant's support, then each neighbour and its support.
+  ASSERT_EQ(background.size(), 6u);
+  EXPECT_EQ(background[2].size(), 2u);
+  EXPECT_EQ(background[2].vertices, left->mesh.vertices);
+  EXPECT_EQ(background[3].size(), 12u);
+  for (const TriangleMesh& part : background)
+    for (PartLabel label : part.labels)
+      EXPECT_EQ(label, PartLabel::background);
+  // The neighbour itself keeps its labels: the scene copies it.
+  EXPECT_EQ(left->mesh.labels[0], PartLabel::stem);
+  EXPECT_EQ(makePlantScene(plant, {}, 1, neighbours)->triangleCount(),
+            2u + 2u + 12u + 2 * (2u + 12u));
+
+  // A scan cannot stand beside it: the sensor scene takes meshes as neighbours.
+  auto scan = std::make_shared<Plant>(plantFromScan(gridPoints(3, 0.01f), {}, "scan"));
+  EXPECT_THROW(plantSceneBackground(plant, {}, {scan}), InvalidArgumentError);
 }

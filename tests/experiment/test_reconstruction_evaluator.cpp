@@ -137,7 +137,7 @@ TEST(ReconstructionEvaluator, RecallPerOrganCountsAVoxelForEveryOrganInIt)
   std::vector<OrganRecall> organs;
   evaluator.computeOrganRecall(left, organs);
   ASSERT_EQ(organs.size(), evaluatedOrgans().size());
-  ASSERT_EQ(organs.size(), 5u);
+  ASSERT_EQ(organs.size(), 6u); // stem, petiole, leaflet, peduncle, fruit, flower
   for (std::size_t o = 0; o < organs.size(); ++o) {
     const OrganRecall& r = organs[o];
     EXPECT_EQ(r.organ, evaluatedOrgans()[o]);

@@ -1,4 +1,5 @@
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstring>
 #include <fstream>
@@ -12,6 +13,7 @@
 #include <plantnbv/common/random.h>
 #include <plantnbv/io/mesh_io.h>
 
+#include "collada_text.h"
 #include "io_test_util.h"
 
 using plantnbv::FormatError;
@@ -110,29 +112,9 @@ namespace {
 std::string triangleCollada(const std::string& asset, const std::string& library_nodes,
                             const std::string& scene)
 {
-  return R"(<?xml version="1.0" encoding="utf-8"?>
-<COLLADA xmlns="http://www.collada.org/2005/11/COLLADASchema" version="1.4.1">
-  <asset>)" +
-         asset +
-         R"(</asset>
-  <library_geometries>
-    <geometry id="tri"><mesh>
-      <source id="p"><float_array id="pa" count="9">0 0 0  1 0 0  0 2 0</float_array>
-        <technique_common><accessor source="#pa" count="3" stride="3">
-          <param name="X" type="float"/><param name="Y" type="float"/><param name="Z" type="float"/>
-        </accessor></technique_common></source>
-      <vertices id="v"><input semantic="POSITION" source="#p"/></vertices>
-      <triangles count="1"><input semantic="VERTEX" source="#v" offset="0"/><p>0 1 2</p></triangles>
-    </mesh></geometry>
-  </library_geometries>
-  <library_nodes>)" +
-         library_nodes +
-         R"(</library_nodes>
-  <library_visual_scenes><visual_scene id="s">)" +
-         scene + R"(</visual_scene></library_visual_scenes>
-  <scene><instance_visual_scene url="#s"/></scene>
-</COLLADA>
-)";
+  return plantnbv::test::colladaDocument(
+      asset, plantnbv::test::colladaTriangleGeometry(),
+      "<library_nodes>" + library_nodes + "</library_nodes>", scene);
 }
 
 /// The triangle in a node "n1" without a name attribute, translated by (0, 0, 5).
@@ -297,6 +279,71 @@ TEST(MeshIo, ObjObjectsAndGroupsKeepTheirNames)
         sum += groups.vertices[i];
       EXPECT_EQ(sum, Eigen::Vector3f(0, 1, 1));
     }
+}
+
+namespace {
+
+/// How many triangles carry each (node, geometry, material) name triple.
+std::map<std::array<std::string, 3>, std::size_t> trianglesPerNames(const TriangleMesh& m)
+{
+  std::map<std::array<std::string, 3>, std::size_t> count;
+  for (auto id : m.node_ids)
+    ++count[m.namesOf(id)];
+  return count;
+}
+
+} // namespace
+
+TEST(MeshIo, GeometryAndMaterialNamesAreKeptBesideNodeNames)
+{
+  TempDir dir;
+  // 3ds Max style: one object, its parts told apart only by material.
+  const TriangleMesh obj = loadMesh(dir.write("max.obj", "o Plant\n"
+                                                         "v 0 0 0\nv 1 0 0\nv 0 1 0\n"
+                                                         "v 0 0 1\n"
+                                                         "usemtl Mat_Stem\nf 1 2 3\n"
+                                                         "usemtl Mat_Blossom\nf 1 2 4\n"
+                                                         "f 1 3 4\n"));
+  ASSERT_EQ(obj.size(), 3u);
+  ASSERT_EQ(obj.material_names.size(), obj.node_names.size());
+  std::map<std::string, std::size_t> per_material;
+  for (auto id : obj.node_ids)
+    ++per_material[obj.material_names[id]];
+  EXPECT_EQ(per_material,
+            (std::map<std::string, std::size_t>{{"Mat_Stem", 1}, {"Mat_Blossom", 2}}));
+
+  // Collada: a node "Plant" instancing the geometry "Petals" with material "Yellow".
+  const std::string dae = plantnbv::test::colladaDocument(
+      "<up_axis>Z_UP</up_axis>",
+      plantnbv::test::colladaTriangleGeometry(R"(id="g1" name="Petals")",
+                                              "0 0 0  1 0 0  0 2 0", "sym"),
+      R"(<library_effects><effect id="e1"><profile_COMMON><technique sid="t"><lambert/>
+    </technique></profile_COMMON></effect></library_effects>
+  <library_materials><material id="m1" name="Yellow"><instance_effect url="#e1"/>
+  </material></library_materials>)",
+      R"(<node id="n1" name="Plant"><instance_geometry url="#g1"><bind_material>
+      <technique_common><instance_material symbol="sym" target="#m1"/></technique_common>
+    </bind_material></instance_geometry></node>)");
+  const TriangleMesh collada = loadMesh(dir.write("named.dae", dae));
+  EXPECT_EQ(trianglesPerNames(collada),
+            (std::map<std::array<std::string, 3>, std::size_t>{
+                {{"Plant", "Petals", "Yellow"}, 1}}));
+
+  // VRML: the geometry's DEF and the Material's DEF (else the Appearance's).
+  const TriangleMesh wrl = loadMesh(dir.write(
+      "named.wrl",
+      "#VRML V2.0 utf8\n"
+      "DEF Plant Transform { children [\n"
+      "  Shape { appearance Appearance { material DEF Petal_mat Material {} }\n"
+      "          geometry DEF Petals IndexedFaceSet { coord Coordinate { point [0 0 0, "
+      "1 0 0, 0 1 0] } coordIndex [0 1 2 -1] } }\n"
+      "  Shape { appearance DEF Green Appearance { material Material {} }\n"
+      "          geometry IndexedFaceSet { coord Coordinate { point [0 0 0, 1 0 0, "
+      "0 0 1] } coordIndex [0 1 2 -1] } }\n"
+      "] }\n"));
+  EXPECT_EQ(trianglesPerNames(wrl),
+            (std::map<std::array<std::string, 3>, std::size_t>{
+                {{"Petals", "Petals", "Petal_mat"}, 1}, {{"Plant", "", "Green"}, 1}}));
 }
 
 TEST(MeshIo, AsciiStl)

@@ -182,3 +182,99 @@ TEST(RoiIo, SizesThatAreNotPositiveAreRefusedNamingTheBox)
           << msg;
     }
 }
+
+TEST(RoiIo, LoadsTheRoiViewpointPlannerListOfCorners)
+{
+  // roi_viewpoint_planner's form: the document is the list, each box min and max.
+  TempDir dir;
+  const Roi roi = loadRoi(dir.write("rois.yaml", "- {min: [0.5, -0.25, 1.0], max: [1.5, "
+                                                 "0.25, 2.0]}\n"
+                                                 "- name: leaf\n"
+                                                 "  min: [-2, 0.125, -1]\n"
+                                                 "  max: [-1, 0.375, 3]\n"));
+  ASSERT_EQ(roi.size(), 2u);
+  EXPECT_EQ(roi.boxes()[0].name, "");
+  EXPECT_EQ(roi.boxes()[0].center, Eigen::Vector3d(1.0, 0.0, 1.5));
+  EXPECT_EQ(roi.boxes()[0].size, Eigen::Vector3d(1.0, 0.5, 1.0));
+  EXPECT_EQ(roi.boxes()[0].min(), Eigen::Vector3d(0.5, -0.25, 1.0));
+  EXPECT_EQ(roi.boxes()[0].max(), Eigen::Vector3d(1.5, 0.25, 2.0));
+  EXPECT_EQ(roi.boxes()[1].name, "leaf");
+  EXPECT_EQ(roi.boxes()[1].center, Eigen::Vector3d(-1.5, 0.25, 1.0));
+  EXPECT_EQ(roi.boxes()[1].size, Eigen::Vector3d(1.0, 0.25, 4.0));
+}
+
+TEST(RoiIo, BoxesMayGiveCornersUnderTheBoxesKey)
+{
+  TempDir dir;
+  const Roi roi = loadRoi(dir.write("rois.yaml", "boxes:\n"
+                                                 "  - name: a\n"
+                                                 "    min: [0.5, -0.25, 1.0]\n"
+                                                 "    max: [1.5, 0.25, 2.0]\n"
+                                                 "  - center: [1, 2, 3]\n"
+                                                 "    size: [0.5, 0.5, 0.5]\n"));
+  ASSERT_EQ(roi.size(), 2u);
+  EXPECT_EQ(roi.boxes()[0].name, "a");
+  EXPECT_EQ(roi.boxes()[0].center, Eigen::Vector3d(1.0, 0.0, 1.5));
+  EXPECT_EQ(roi.boxes()[0].size, Eigen::Vector3d(1.0, 0.5, 1.0));
+  EXPECT_EQ(roi.boxes()[1].center, Eigen::Vector3d(1, 2, 3));
+  EXPECT_EQ(roi.boxes()[1].size, Eigen::Vector3d(0.5, 0.5, 0.5));
+  // A list file may give centres and sizes too.
+  const Roi list =
+      loadRoi(dir.write("list.yaml", "- {center: [1, 2, 3], size: [1, 1, 1]}\n"));
+  ASSERT_EQ(list.size(), 1u);
+  EXPECT_EQ(list.boxes()[0].center, Eigen::Vector3d(1, 2, 3));
+}
+
+TEST(RoiIo, ABoxMixingCentreAndCornersIsRefused)
+{
+  TempDir dir;
+  const std::string file = "'" + dir.file("rois.yaml") + "' ";
+  EXPECT_EQ(roiError(dir, "- {min: [0, 0, 0], max: [1, 1, 1]}\n"
+                          "- {center: [0, 0, 0], max: [1, 1, 1]}\n"),
+            file + "[1]: give center and size, or min and max, not both");
+  EXPECT_EQ(roiError(dir, "boxes:\n  - {min: [0, 0, 0], size: [1, 1, 1]}\n"),
+            file + "boxes[0]: give center and size, or min and max, not both");
+}
+
+TEST(RoiIo, MinMustBeBelowMaxOnEveryAxis)
+{
+  TempDir dir;
+  const std::string file = "'" + dir.file("rois.yaml") + "' ";
+  EXPECT_EQ(
+      roiError(dir, "- {min: [0, 0, 0], max: [1, 1, 1]}\n"
+                    "- {min: [0, 2, 0], max: [1, 1, 1]}\n"),
+      file + "[1]: expected min < max on every axis, got min [0, 2, 0], max [1, 1, 1]");
+  EXPECT_EQ(roiError(dir, "boxes:\n  - {min: [0, 0, 0.5], max: [1, 1, 0.5]}\n"),
+            file + "boxes[0]: expected min < max on every axis, got min [0, 0, 0.5], "
+                   "max [1, 1, 0.5]");
+}
+
+TEST(RoiIo, CornerMistakesNameTheBoxAndKey)
+{
+  TempDir dir;
+  const std::string file = "'" + dir.file("rois.yaml") + "' ";
+  EXPECT_EQ(roiError(dir, "- name: a\n  min: [0, 0, 0]\n"),
+            file + "[0]: missing key 'max'");
+  EXPECT_EQ(roiError(dir, "- max: [0, 0, 0]\n"), file + "[0]: missing key 'min'");
+  EXPECT_EQ(roiError(dir, "- {min: [0, 0, .nan], max: [1, 1, 1]}\n"),
+            file + "[0].min: expected 3 numbers, got [0, 0, .nan]");
+  EXPECT_EQ(roiError(dir, "- {min: [0, 0, 0], max: [1, .inf, 1]}\n"),
+            file + "[0].max: expected 3 numbers, got [1, .inf, 1]");
+  EXPECT_EQ(roiError(dir, "- {min: [0, 0, 0], max: [1, 1]}\n"),
+            file + "[0].max: expected 3 numbers, got [1, 1]");
+  EXPECT_EQ(roiError(dir, "- {min: [0, 0, 0], max: [1, 1, 1], frame: world}\n"),
+            file + "[0].frame: unknown key (expected one of max, min, name)");
+  EXPECT_EQ(roiError(dir, "- {min: [-1e308, 0, 0], max: [1e308, 1, 1]}\n"),
+            file + "[0]: max - min overflows: min [-1e308, 0, 0], max [1e308, 1, 1]");
+  // Corners near the largest double: the centre is still found.
+  const Roi far =
+      loadRoi(dir.write("far.yaml", "- {min: [1e308, 0, 0], max: [1.5e308, 1, 1]}\n"));
+  EXPECT_EQ(far.boxes()[0].center.x(), 0.5 * 1e308 + 0.5 * 1.5e308);
+}
+
+TEST(RoiIo, AnEmptyListHasNoBoxes)
+{
+  TempDir dir;
+  EXPECT_EQ(roiError(dir, "[]\n"),
+            "'" + dir.file("rois.yaml") + "' (top level): no boxes (the list is empty)");
+}

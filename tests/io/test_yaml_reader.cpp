@@ -194,3 +194,54 @@ TEST(YamlReader, CanonicalTextIgnoresCommentsOrderQuotingAndStyle)
   EXPECT_NE(canonical("a: 'b\",\"c'\n"), canonical("a: b\nc: ~\n"));
   EXPECT_NE(canonical("a: ~\n"), canonical("a: '~'\n"));
 }
+
+TEST(YamlReader, CrlfLineEndingsReadAsLf)
+{
+  // A trial config as a Windows editor saves it.
+  const std::string lf = "# a trial\n"
+                         "trial:\n"
+                         "  map:\n"
+                         "    resolution: 0.005\n"
+                         "    frame: \"world\"\n"
+                         "  views: [1, 2,\n"
+                         "          3]\n"
+                         "planners:\n"
+                         "  - name: attention\n"
+                         "    rois: [main_stem, leaf_nodes]\n"
+                         "  - name: 'random'\n"
+                         "note: |\n"
+                         "  two\n"
+                         "  lines\n"
+                         "folded: >\n"
+                         "  one\n"
+                         "  line\n";
+  std::string crlf;
+  for (char c : lf)
+    crlf += c == '\n' ? std::string("\r\n") : std::string(1, c);
+  const YamlReader r("c.yaml");
+  const YAML::Node root = r.parse(crlf);
+  EXPECT_EQ(YamlReader::canonical(root), YamlReader::canonical(r.parse(lf)));
+  EXPECT_EQ(r.read<double>(root["trial"]["map"]["resolution"], "r", "a number"), 0.005);
+  EXPECT_EQ(r.read<std::string>(root["trial"]["map"]["frame"], "f", "a name"), "world");
+  EXPECT_EQ(r.readList<int>(root["trial"]["views"], "v", "integers"),
+            (std::vector<int>{1, 2, 3}));
+  ASSERT_TRUE(root["planners"].IsSequence());
+  ASSERT_EQ(root["planners"].size(), 2u);
+  EXPECT_EQ(r.read<std::string>(root["planners"][0]["name"], "n", "a name"), "attention");
+  EXPECT_EQ(r.readList<std::string>(root["planners"][0]["rois"], "r", "names"),
+            (std::vector<std::string>{"main_stem", "leaf_nodes"}));
+  EXPECT_EQ(r.read<std::string>(root["planners"][1]["name"], "n", "a name"), "random");
+  // Block scalars: line breaks come out as "\n" (YAML 1.2, 5.4: line break
+  // normalization).
+  EXPECT_EQ(root["note"].Scalar(), "two\nlines\n");
+  EXPECT_EQ(root["folded"].Scalar(), "one line\n");
+  // Keys are found without a trailing '\r', and every key is known.
+  std::vector<std::string> keys;
+  r.forEach(
+      root, "",
+      {{"trial", [&](const YAML::Node&, const std::string& k) { keys.push_back(k); }},
+       {"planners", [&](const YAML::Node&, const std::string& k) { keys.push_back(k); }},
+       {"note", [&](const YAML::Node&, const std::string& k) { keys.push_back(k); }},
+       {"folded", [&](const YAML::Node&, const std::string& k) { keys.push_back(k); }}});
+  EXPECT_EQ(keys, (std::vector<std::string>{"trial", "planners", "note", "folded"}));
+}

@@ -35,6 +35,28 @@ TEST(PartLabelRules, ParseAndApplyFirstMatchWins)
   EXPECT_EQ(n.labels[0], PartLabel::unknown);
 }
 
+TEST(PartLabelRules, MatchGeometryAndMaterialNamesToo)
+{
+  // A 3ds Max export: one node "Plant", parts told apart by material; a Gazebo model's
+  // blossoms by geometry name.
+  TriangleMesh m = namedMesh();
+  m.node_names = {"Plant", "Plant", "Plant"};
+  m.geometry_names = {"mesh_0", "mesh_1", "Blossom_3"};
+  m.material_names = {"Mat_Branch", "Mat_Leaf", "Mat_Yellow"};
+  const auto counts = applyPartLabelRules(
+      m, parsePartLabelRules("stem=Mat_Branch,leaflet=Mat_Leaf,flower=Blossom.*"));
+  EXPECT_EQ(counts, (std::vector<std::size_t>{1, 1, 1}));
+  EXPECT_EQ(m.labels, (std::vector<PartLabel>{PartLabel::stem, PartLabel::leaflet,
+                                              PartLabel::flower}));
+  // The node name is tried first, then the geometry's, then the material's, rule by
+  // rule: the first rule any of them matches wins.
+  TriangleMesh n = m;
+  applyPartLabelRules(n, parsePartLabelRules("fruit=Mat_.*,stem=Plant"));
+  EXPECT_EQ(n.labels, (std::vector<PartLabel>(3, PartLabel::fruit)));
+  EXPECT_EQ(partLabelFromName("flower"), PartLabel::flower);
+  EXPECT_STREQ(partLabelName(PartLabel::flower), "flower");
+}
+
 TEST(PartLabelRules, RejectsBadSpecs)
 {
   EXPECT_THROW(parsePartLabelRules("trunk=Branch.*"), InvalidArgumentError);

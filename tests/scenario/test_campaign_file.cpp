@@ -1,6 +1,9 @@
+#include <cmath>
+
 #include <gtest/gtest.h>
 
 #include <plantnbv/common/error.h>
+#include <plantnbv/experiment/trial.h>
 #include <plantnbv/scenario/campaign_file.h>
 
 #include "scenario_test_util.h"
@@ -8,6 +11,7 @@
 using namespace plantnbv;
 using namespace plantnbv::scenario;
 using plantnbv::test::errorOf;
+using plantnbv::test::ScenarioFiles;
 
 namespace {
 
@@ -157,4 +161,37 @@ TEST(CampaignFile, TrialFingerprintsFollowTheContentNotTheText)
   EXPECT_NE(a, fingerprint("name: t\nplants: [{seed: 1}]\nyaws_deg: [0]\nviews: 2\n"
                            "trial: {gain: {rays_x: 32}}\n" +
                            studies));
+}
+
+TEST_F(ScenarioFiles, AModelsScaleAndSectorRadiusReachItsTrials)
+{
+  // A 1 m tall triangle in centimetres; its views 0.55 m from its axis.
+  write("tall.obj", "o Stem\nv 0 0 0\nv 5 0 0\nv 0 0 100\nf 1 2 3\n");
+  const std::string path =
+      write("c.yaml", "name: t\nplants: [{model: tall.obj, scale: 0.01, sector_radius: "
+                      "0.55}]\nyaws_deg: [0]\nviews: 2\ncandidates: 9\n"
+                      "studies:\n  - name: main\n    planners: [{type: predefined, "
+                      "patterns: [1]}]\n");
+  const CampaignFile f = loadCampaignFile(path);
+  EXPECT_EQ(f.definition.plants[0].scale, 0.01);
+  EXPECT_EQ(f.definition.plants[0].sector_radius_m, 0.55);
+  TrialResult result;
+  runCampaignTrial(f, expandCampaign(f.definition).at(0), result);
+  ASSERT_EQ(result.steps.size(), 2u);
+  // v0 is Table 1's (0.5 m from the axis); the next view is a cell centre of the sector,
+  // around the model's bottom-face centre at the default base (1, 0, 0.8).
+  const Eigen::Vector3d& p = result.steps[1].view.position;
+  EXPECT_NEAR(std::hypot(p.x() - 1.0, p.y()), 0.55, 1e-9) << p.transpose();
+  EXPECT_NEAR(p.z(), 0.8 + 1.0 / 6.0,
+              1e-7); // the bottom row of a sector 1 m (float) high
+
+  EXPECT_EQ(errorOf([] {
+              parseCampaignFile("name: t\nplants: [{seed: 0, scale: 0.01}]\n", "t.yaml");
+            }),
+            "'t.yaml' plants[0].scale: a scale belongs to a model file");
+  EXPECT_EQ(errorOf([] {
+              parseCampaignFile("name: t\nplants: [{seed: 0, sector_radius: 0}]\n",
+                                "t.yaml");
+            }),
+            "'t.yaml' plants[0].sector_radius: 0 is not a radius in metres > 0");
 }

@@ -37,6 +37,12 @@ Box Box::fromMinMax(const Eigen::Vector3d& min, const Eigen::Vector3d& max,
   return Box(0.5 * (min + max), max - min, std::move(name));
 }
 
+bool Box::overlaps(const Box& other) const
+{
+  return (min().array() <= other.max().array()).all() &&
+         (other.min().array() <= max().array()).all();
+}
+
 bool Box::contains(const Eigen::Vector3d& p) const
 {
   return ((p - center).cwiseAbs().array() <= 0.5 * size.array()).all();

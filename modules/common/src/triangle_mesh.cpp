@@ -1,4 +1,5 @@
 #include <string>
+#include <utility>
 
 #include <Eigen/Geometry>
 
@@ -8,9 +9,10 @@
 namespace plantnbv {
 
 namespace {
-constexpr const char* kPartNames[] = {"unknown",  "stem",  "petiole",   "leaflet",
-                                      "peduncle", "fruit", "background"};
+constexpr const char* kPartNames[] = {"unknown",  "stem",  "petiole",    "leaflet",
+                                      "peduncle", "fruit", "background", "flower"};
 constexpr std::size_t kPartCount = sizeof(kPartNames) / sizeof(kPartNames[0]);
+static_assert(kPartCount == std::size_t(kLastPartLabel) + 1, "a name for every label");
 } // namespace
 
 const char* partLabelName(PartLabel label)
@@ -19,6 +21,13 @@ const char* partLabelName(PartLabel label)
   if (i >= kPartCount)
     throw InvalidArgumentError("unknown part label value " + std::to_string(i));
   return kPartNames[i];
+}
+
+bool isPlantPart(std::uint32_t label)
+{
+  return label != std::uint32_t(PartLabel::unknown) &&
+         label != std::uint32_t(PartLabel::background) &&
+         label <= std::uint32_t(kLastPartLabel);
 }
 
 PartLabel partLabelFromName(const std::string& name)
@@ -72,6 +81,14 @@ void TriangleMesh::append(const TriangleMesh& other)
   }
   const auto node_offset = static_cast<std::uint32_t>(node_names.size());
   node_names.insert(node_names.end(), other.node_names.begin(), other.node_names.end());
+  for (auto [mine, theirs] : {std::pair{&geometry_names, &other.geometry_names},
+                              std::pair{&material_names, &other.material_names}}) {
+    if (mine->empty() && theirs->empty())
+      continue;
+    mine->resize(node_offset);
+    mine->insert(mine->end(), theirs->begin(), theirs->end());
+    mine->resize(node_names.size());
+  }
   if (node_ids.empty() && other.node_ids.empty())
     return;
   const auto unnamed = static_cast<std::uint32_t>(node_names.size());
@@ -81,8 +98,20 @@ void TriangleMesh::append(const TriangleMesh& other)
     node_ids.push_back(id + node_offset);
   used_unnamed = used_unnamed || (other.node_ids.empty() && !other.triangles.empty());
   node_ids.resize(new_count, unnamed);
-  if (used_unnamed)
+  if (used_unnamed) {
     node_names.emplace_back("");
+    for (auto* names : {&geometry_names, &material_names})
+      if (!names->empty())
+        names->resize(node_names.size());
+  }
+}
+
+std::array<std::string, 3> TriangleMesh::namesOf(std::uint32_t id) const
+{
+  auto at = [id](const std::vector<std::string>& names) {
+    return id < names.size() ? names[id] : std::string();
+  };
+  return {at(node_names), at(geometry_names), at(material_names)};
 }
 
 void TriangleMesh::validate() const
@@ -102,6 +131,11 @@ void TriangleMesh::validate() const
   if (!node_ids.empty() && node_ids.size() != triangles.size())
     throw FormatError("mesh has " + std::to_string(node_ids.size()) + " node ids for " +
                       std::to_string(triangles.size()) + " triangles");
+  for (const auto* names : {&geometry_names, &material_names})
+    if (!names->empty() && names->size() != node_names.size())
+      throw FormatError("mesh has " + std::to_string(names->size()) +
+                        " geometry or material names for " +
+                        std::to_string(node_names.size()) + " node names");
   for (auto id : node_ids)
     if (id >= node_names.size())
       throw FormatError("node id " + std::to_string(id) + " exceeds the " +

@@ -51,6 +51,15 @@ std::string resolutionLabel(double resolution_m)
   return buffer;
 }
 
+std::string rowLabel(double spacing_m)
+{
+  if (spacing_m == 0.0)
+    return "alone";
+  char buffer[32];
+  std::snprintf(buffer, sizeof(buffer), "row%gcm", spacing_m * 100.0);
+  return buffer;
+}
+
 } // namespace
 
 void CampaignDefinition::validate() const
@@ -157,6 +166,15 @@ void CampaignDefinition::validate() const
     for (double r : study.resolutions_m)
       if (!res.insert(resolutionLabel(r)).second)
         bad(path + ".resolutions", "repeated value " + resolutionLabel(r));
+    std::set<std::string> rows;
+    for (std::size_t k = 0; k < study.row_spacings_m.size(); ++k) {
+      const double s = study.row_spacings_m[k];
+      if (!(s >= 0.0) || !std::isfinite(s))
+        bad(indexed(path + ".row_spacings", k),
+            std::to_string(s) + ", expected >= 0 metres (0: the plant alone)");
+      if (!rows.insert(rowLabel(s)).second)
+        bad(path + ".row_spacings", "repeated value " + rowLabel(s));
+    }
   }
 }
 
@@ -202,67 +220,74 @@ std::vector<TrialSpec> expandCampaign(const CampaignDefinition& d)
     const std::vector<double> resolution_axis = study.resolutions_m.empty()
                                                     ? std::vector<double>{d.resolution_m}
                                                     : study.resolutions_m;
+    const std::vector<double> row_axis =
+        study.row_spacings_m.empty() ? std::vector<double>{0.0} : study.row_spacings_m;
     for (const CampaignPlanner& planner : study.planners) {
       const std::vector<int> patterns = planner.kind == PlannerKind::predefined
                                             ? planner.patterns
                                             : std::vector<int>{0};
       for (int simplified : simplified_axis)
         for (int candidates : candidate_axis)
-          for (double resolution : resolution_axis) {
-            std::string variant;
-            auto add = [&variant](const std::string& part) {
-              variant += (variant.empty() ? "" : "-") + part;
-            };
-            if (!study.simplified.empty())
-              add(simplified ? "simplified" : "original");
-            if (!study.candidates.empty()) {
-              char buffer[16];
-              std::snprintf(buffer, sizeof(buffer), "c%02d", candidates);
-              add(buffer);
-            }
-            if (!study.resolutions_m.empty())
-              add(resolutionLabel(resolution));
-            for (int pattern : patterns)
-              for (std::size_t p = 0; p < d.plants.size(); ++p)
-                for (double yaw : d.yaws_deg)
-                  for (int rep = 0; rep < d.repetitions; ++rep) {
-                    // Checked while expanding: the product of the axes can overflow
-                    // (found by fuzzing: an out-of-memory from a 1 KB file).
-                    if (specs.size() >= kMaxCampaignTrials)
-                      throw InvalidArgumentError(
-                          "campaign: more than " + std::to_string(kMaxCampaignTrials) +
-                          " trials (plants x yaws x repetitions x planners x variants); "
-                          "split it into several campaigns");
-                    TrialSpec t;
-                    t.study = study.name;
-                    t.variant = variant;
-                    t.planner = planner.name;
-                    t.kind = planner.kind;
-                    if (planner.kind == PlannerKind::nbv) {
-                      t.attention = planner.attention;
-                      t.roi_source = planner.roi_source;
+          for (double resolution : resolution_axis)
+            for (double row_spacing : row_axis) {
+              std::string variant;
+              auto add = [&variant](const std::string& part) {
+                variant += (variant.empty() ? "" : "-") + part;
+              };
+              if (!study.simplified.empty())
+                add(simplified ? "simplified" : "original");
+              if (!study.candidates.empty()) {
+                char buffer[16];
+                std::snprintf(buffer, sizeof(buffer), "c%02d", candidates);
+                add(buffer);
+              }
+              if (!study.resolutions_m.empty())
+                add(resolutionLabel(resolution));
+              if (!study.row_spacings_m.empty())
+                add(rowLabel(row_spacing));
+              for (int pattern : patterns)
+                for (std::size_t p = 0; p < d.plants.size(); ++p)
+                  for (double yaw : d.yaws_deg)
+                    for (int rep = 0; rep < d.repetitions; ++rep) {
+                      // Checked while expanding: the product of the axes can overflow
+                      // (found by fuzzing: an out-of-memory from a 1 KB file).
+                      if (specs.size() >= kMaxCampaignTrials)
+                        throw InvalidArgumentError("campaign: more than " +
+                                                   std::to_string(kMaxCampaignTrials) +
+                                                   " trials (plants x yaws x repetitions "
+                                                   "x planners x variants); "
+                                                   "split it into several campaigns");
+                      TrialSpec t;
+                      t.study = study.name;
+                      t.variant = variant;
+                      t.planner = planner.name;
+                      t.kind = planner.kind;
+                      if (planner.kind == PlannerKind::nbv) {
+                        t.attention = planner.attention;
+                        t.roi_source = planner.roi_source;
+                      }
+                      t.pattern = pattern;
+                      t.plant_index = p;
+                      t.plant = d.plants[p].name;
+                      t.simplified =
+                          simplified < 0 ? d.plants[p].simplified : simplified != 0;
+                      t.yaw_deg = yaw;
+                      t.repetition = rep;
+                      t.candidates = candidates;
+                      t.resolution_m = resolution;
+                      t.row_spacing_m = row_spacing;
+                      t.views = d.views;
+                      t.id = study.name + "/" + planner.name +
+                             (pattern ? "-p" + std::to_string(pattern) : std::string()) +
+                             "/" + (variant.empty() ? std::string() : variant + "/") +
+                             t.plant + "/" + yawLabel(yaw) + "/rep" + std::to_string(rep);
+                      t.seed = deriveSeed(d.seed, trialIdHash(t.id));
+                      t.fingerprint =
+                          contentFingerprint(d.content_fingerprint + "\n" + t.id + "\n" +
+                                             std::to_string(t.seed));
+                      specs.push_back(std::move(t));
                     }
-                    t.pattern = pattern;
-                    t.plant_index = p;
-                    t.plant = d.plants[p].name;
-                    t.simplified =
-                        simplified < 0 ? d.plants[p].simplified : simplified != 0;
-                    t.yaw_deg = yaw;
-                    t.repetition = rep;
-                    t.candidates = candidates;
-                    t.resolution_m = resolution;
-                    t.views = d.views;
-                    t.id = study.name + "/" + planner.name +
-                           (pattern ? "-p" + std::to_string(pattern) : std::string()) +
-                           "/" + (variant.empty() ? std::string() : variant + "/") +
-                           t.plant + "/" + yawLabel(yaw) + "/rep" + std::to_string(rep);
-                    t.seed = deriveSeed(d.seed, trialIdHash(t.id));
-                    t.fingerprint =
-                        contentFingerprint(d.content_fingerprint + "\n" + t.id + "\n" +
-                                           std::to_string(t.seed));
-                    specs.push_back(std::move(t));
-                  }
-          }
+            }
     }
   }
   std::set<std::string> ids;

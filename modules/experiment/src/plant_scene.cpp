@@ -29,7 +29,8 @@ void PlantSceneConfig::validate() const
 }
 
 std::vector<TriangleMesh> plantSceneBackground(const Plant& plant,
-                                               const PlantSceneConfig& config)
+                                               const PlantSceneConfig& config,
+                                               const NeighbourPlants& neighbours)
 {
   config.validate();
   std::vector<TriangleMesh> parts;
@@ -37,14 +38,26 @@ std::vector<TriangleMesh> plantSceneBackground(const Plant& plant,
   if (config.floor)
     parts.push_back(
         floorMesh(config.floor_height_m, config.floor_half_size_m, base.head<2>()));
-  if (config.support && base.z() > config.floor_height_m)
-    parts.push_back(
-        supportMesh(base, config.support_half_width_m, config.floor_height_m));
+  auto addSupport = [&](const Eigen::Vector3d& b) {
+    if (config.support && b.z() > config.floor_height_m)
+      parts.push_back(supportMesh(b, config.support_half_width_m, config.floor_height_m));
+  };
+  addSupport(base);
+  for (const auto& neighbour : neighbours) {
+    if (!neighbour || neighbour->mesh.empty())
+      throw InvalidArgumentError(
+          "plant scene: a neighbour plant needs a mesh (" +
+          std::string(neighbour ? "'" + neighbour->name + "' is a scan" : "null") + ")");
+    TriangleMesh mesh = neighbour->mesh;
+    mesh.labels.assign(mesh.size(), PartLabel::background);
+    parts.push_back(std::move(mesh));
+    addSupport(neighbour->base_position);
+  }
   return parts;
 }
 
 SensorScene::Ptr makePlantScene(const Plant& plant, const PlantSceneConfig& config,
-                                unsigned int threads)
+                                unsigned int threads, const NeighbourPlants& neighbours)
 {
   config.validate();
   auto scene = std::make_shared<SensorScene>();
@@ -55,7 +68,7 @@ SensorScene::Ptr makePlantScene(const Plant& plant, const PlantSceneConfig& conf
   else
     throw InvalidArgumentError("makePlantScene: plant '" + plant.name +
                                "' has neither mesh nor scan points");
-  for (const TriangleMesh& part : plantSceneBackground(plant, config))
+  for (const TriangleMesh& part : plantSceneBackground(plant, config, neighbours))
     scene->addMesh(part, PartLabel::background);
   scene->setNumberOfThreads(threads);
   scene->commit();

@@ -54,9 +54,9 @@ bool keyOf(const pcl::PointXYZ& p, const VoxelLattice& lattice, VoxelKey& key)
 
 const std::vector<PartLabel>& evaluatedOrgans()
 {
-  static const std::vector<PartLabel> organs = {PartLabel::stem, PartLabel::petiole,
+  static const std::vector<PartLabel> organs = {PartLabel::stem,    PartLabel::petiole,
                                                 PartLabel::leaflet, PartLabel::peduncle,
-                                                PartLabel::fruit};
+                                                PartLabel::fruit,   PartLabel::flower};
   return organs;
 }
 

@@ -434,10 +434,15 @@ StoredTrial ResultStore::loadFile(const std::filesystem::path& path)
     t.views.push_back(std::move(scores));
     if (views[v].contains("organs")) {
       const std::string organs = view + ".organs";
+      const json& per_organ = r.at(views[v], view, "organs");
       std::vector<double> recall;
+      // An organ a file does not name was not measured when it was written (flower came
+      // after the first files with organs): not measured, not an error.
       for (PartLabel organ : evaluatedOrgans())
-        recall.push_back(
-            r.score(r.at(views[v], view, "organs"), organs, partLabelName(organ), 1.0));
+        recall.push_back(per_organ.is_object() &&
+                                 !per_organ.contains(partLabelName(organ))
+                             ? std::numeric_limits<double>::quiet_NaN()
+                             : r.score(per_organ, organs, partLabelName(organ), 1.0));
       t.organ_recall.push_back(std::move(recall));
     }
   }

@@ -224,7 +224,8 @@ void Trial::run(TrialResult& result)
     noise.seed = deriveSeed(c.seed, kNoiseStream);
     sensor.setNoise(noise);
   }
-  sensor.setScene(makePlantScene(*plant_, c.scene, static_cast<unsigned int>(c.threads)));
+  sensor.setScene(makePlantScene(*plant_, c.scene, static_cast<unsigned int>(c.threads),
+                                 neighbours_));
   evaluator_ = std::make_shared<ReconstructionEvaluator>();
   ReconstructionEvaluator& evaluator = *evaluator_;
   evaluator.setResolution(c.map.resolution_m);
@@ -232,9 +233,10 @@ void Trial::run(TrialResult& result)
   evaluator.setNumberOfThreads(c.threads);
   evaluator.setGroundTruth(*plant_);
   evaluator.setLevels(levels_);
-  // Scored on the plant only: the floor's and the support's voxels are left out.
+  // Scored on the plant only: the floor's, the supports' and the neighbours' voxels are
+  // left out.
   TriangleMesh background;
-  for (const TriangleMesh& part : plantSceneBackground(*plant_, c.scene))
+  for (const TriangleMesh& part : plantSceneBackground(*plant_, c.scene, neighbours_))
     background.append(part);
   evaluator.setBackground(background);
   sector_ = c.sector;

@@ -1,4 +1,5 @@
 #include <algorithm>
+#include <array>
 #include <cctype>
 #include <charconv>
 #include <cmath>
@@ -6,6 +7,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <map>
 #include <string_view>
 #include <unordered_map>
 #include <vector>
@@ -32,6 +34,7 @@ const char* const kMeshExtensions = "expected .ply, .obj, .stl, .dae, .wrl or .v
 /// What a Collada file's top-level <asset> says about units and axes.
 struct ColladaAsset {
   double meter = 1.0;            ///< metres per file unit (<unit meter="...">)
+  bool has_unit = false;         ///< the file declares <unit meter="...">
   detail::Up up = detail::Up::y; ///< <up_axis>; Y_UP is Collada's default
 };
 
@@ -93,6 +96,7 @@ ColladaAsset scanColladaAsset(const std::string& path, const std::string& head)
         throw FormatError(detail::where(path) + "<unit meter=\"" + std::string(value) +
                           "\"> must be a positive number");
       asset.meter = meter;
+      asset.has_unit = true;
     }
   }
   const std::size_t up = block.find("<up_axis>");
@@ -353,9 +357,9 @@ void checkColladaForAssimp(const std::string& path, const std::string& file_text
                    " <param>s, more than its stride " + std::to_string(stride));
     // <mesh> elements do not nest and are found in file order: the last one that starts
     // before the accessor is the only one that can hold it.
-    const auto after = std::upper_bound(
-        meshes.begin(), meshes.end(), at,
-        [](std::size_t a, const auto& m) { return a < m.first; });
+    const auto after =
+        std::upper_bound(meshes.begin(), meshes.end(), at,
+                         [](std::size_t a, const auto& m) { return a < m.first; });
     const bool in_mesh = after != meshes.begin() && at < std::prev(after)->second;
     if (in_mesh && !a.numeric)
       fail(at, what + " of a <mesh> reads '" + array->first +
@@ -452,7 +456,8 @@ public:
       const aiMesh& m = *scene_.mMeshes[node.mMeshes[i]];
       if (!(m.mPrimitiveTypes & (aiPrimitiveType_TRIANGLE | aiPrimitiveType_POLYGON)))
         continue; // points and lines only
-      const std::uint32_t id = nodeId(nameOf(node, m), out);
+      const std::uint32_t id =
+          nodeId({nameOf(node, m), m.mName.C_Str(), materialName(m)}, out);
       const auto base = static_cast<std::uint32_t>(out.vertices.size());
       for (unsigned v = 0; v < m.mNumVertices; ++v) {
         const aiVector3D& p = m.mVertices[v];
@@ -473,19 +478,33 @@ public:
   }
 
 private:
-  std::uint32_t nodeId(const std::string& name, TriangleMesh& out)
+  /// The material's name; "" for none or Assimp's own default material.
+  std::string materialName(const aiMesh& m) const
   {
-    const auto it = ids_.find(name);
+    aiString name;
+    if (m.mMaterialIndex >= scene_.mNumMaterials ||
+        scene_.mMaterials[m.mMaterialIndex]->Get(AI_MATKEY_NAME, name) != AI_SUCCESS ||
+        std::string(name.C_Str()) == AI_DEFAULT_MATERIAL_NAME)
+      return "";
+    return name.C_Str();
+  }
+
+  /// One id per (node, geometry, material) name triple.
+  std::uint32_t nodeId(const std::array<std::string, 3>& names, TriangleMesh& out)
+  {
+    const auto it = ids_.find(names);
     if (it != ids_.end())
       return it->second;
     const auto id = static_cast<std::uint32_t>(out.node_names.size());
-    out.node_names.push_back(name);
-    ids_.emplace(name, id);
+    out.node_names.push_back(names[0]);
+    out.geometry_names.push_back(names[1]);
+    out.material_names.push_back(names[2]);
+    ids_.emplace(names, id);
     return id;
   }
 
   const aiScene& scene_;
-  std::unordered_map<std::string, std::uint32_t> ids_;
+  std::map<std::array<std::string, 3>, std::uint32_t> ids_;
 };
 
 /// OBJ, STL and Collada through Assimp, in file axes; for Collada in file units too.
@@ -539,7 +558,8 @@ void checkColladaText(const std::string& path, const std::string& text)
   checkColladaForAssimp(path, text);
 }
 
-TriangleMesh loadMesh(const std::string& path, const MeshLoadOptions& options)
+TriangleMesh loadMesh(const std::string& path, const MeshLoadOptions& options,
+                      MeshFileUnits* units)
 {
   if (!std::isfinite(options.scale) || options.scale < 0.0)
     throw InvalidArgumentError(
@@ -576,6 +596,11 @@ TriangleMesh loadMesh(const std::string& path, const MeshLoadOptions& options)
                         : options.up_axis == MeshLoadOptions::UpAxis::y ? detail::Up::y
                                                                         : detail::Up::z;
   const double scale = options.scale > 0.0 ? options.scale : file.meter;
+  if (units) {
+    units->can_declare_unit = ext == ".dae";
+    units->unit_declared = file.has_unit;
+    units->metres_per_unit = scale;
+  }
   if (up != detail::Up::z || scale != 1.0) {
     const Eigen::Matrix3d m = scale * detail::upToZ(up);
     for (auto& v : mesh.vertices)

@@ -39,7 +39,7 @@ int findProperty(const PlyElement& e, const char* name)
   return -1;
 }
 
-constexpr std::uint32_t kMaxPartLabel = static_cast<std::uint32_t>(PartLabel::background);
+constexpr std::uint32_t kMaxPartLabel = static_cast<std::uint32_t>(kLastPartLabel);
 
 /// The faces of more than 3 corners, read as fans and cut properly once the vertices are
 /// known (the face element may come first): face f's corners are

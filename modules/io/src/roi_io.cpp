@@ -17,13 +17,12 @@ namespace io {
 
 namespace {
 
-Box readBox(const YamlReader& r, const YAML::Node& node, const std::string& path)
+/// The box at `path` given by its centre and size (the form saveRoi writes).
+Box readCenterSizeBox(const YamlReader& r, const YAML::Node& node,
+                      const std::string& path)
 {
   std::string name;
   std::vector<double> center, size;
-  if (!node.IsMap())
-    r.fail(path, "expected a map with center, size and an optional name, got " +
-                     YamlReader::describe(node));
   r.forEach(node, path,
             {{"name",
               [&](const YAML::Node& n, const std::string& k) {
@@ -51,6 +50,59 @@ Box readBox(const YamlReader& r, const YAML::Node& node, const std::string& path
                      YamlReader::describe(node["center"]) + ", size " +
                      YamlReader::describe(node["size"]));
   return box;
+}
+
+/// The box at `path` given by its lowest and highest corners (the ROI viewpoint
+/// planner's form): centre (min + max) / 2, size max - min.
+Box readMinMaxBox(const YamlReader& r, const YAML::Node& node, const std::string& path)
+{
+  std::string name;
+  std::vector<double> lo, hi;
+  r.forEach(node, path,
+            {{"name",
+              [&](const YAML::Node& n, const std::string& k) {
+                name = r.read<std::string>(n, k, "a name");
+              }},
+             {"min", [&](const YAML::Node& n,
+                         const std::string& k) { lo = r.readNumbers(n, k, 3); }},
+             {"max", [&](const YAML::Node& n, const std::string& k) {
+                hi = r.readNumbers(n, k, 3);
+              }}});
+  if (lo.empty())
+    r.fail(path, "missing key 'min'");
+  if (hi.empty())
+    r.fail(path, "missing key 'max'");
+  const Eigen::Vector3d min(lo[0], lo[1], lo[2]), max(hi[0], hi[1], hi[2]);
+  // A box without volume means nothing (see readCenterSizeBox): min < max on every axis.
+  if (!(min.array() < max.array()).all())
+    r.fail(path, "expected min < max on every axis, got min " +
+                     YamlReader::describe(node["min"]) + ", max " +
+                     YamlReader::describe(node["max"]));
+  // (min + max) / 2 is the rounded midpoint unless the sum overflows (corners near the
+  // largest double); halving each corner first then keeps it finite. max - min can
+  // overflow too (-1e308 to 1e308): a box no double can hold is refused.
+  Eigen::Vector3d center = 0.5 * (min + max);
+  if (!center.allFinite())
+    center = 0.5 * min + 0.5 * max;
+  const Eigen::Vector3d size = max - min;
+  if (!size.allFinite())
+    r.fail(path, "max - min overflows: min " + YamlReader::describe(node["min"]) +
+                     ", max " + YamlReader::describe(node["max"]));
+  return Box(center, size, name);
+}
+
+/// The box at `path`: center and size, or min and max (never a mix).
+Box readBox(const YamlReader& r, const YAML::Node& node, const std::string& path)
+{
+  if (!node.IsMap())
+    r.fail(path, "expected a map with center and size (or min and max) and an optional "
+                 "name, got " +
+                     YamlReader::describe(node));
+  const bool center_size = node["center"] || node["size"];
+  const bool min_max = node["min"] || node["max"];
+  if (center_size && min_max)
+    r.fail(path, "give center and size, or min and max, not both");
+  return min_max ? readMinMaxBox(r, node, path) : readCenterSizeBox(r, node, path);
 }
 
 /// The shortest decimal text that reads back as exactly `v` (at most 17 digits).
@@ -107,6 +159,14 @@ Roi parseRoi(const std::string& path, const std::string& text)
   if (!root || root.IsNull())
     r.fail("", "no boxes (the file is empty)");
   Roi roi;
+  // The ROI viewpoint planner's form: the list of boxes is the whole document.
+  if (root.IsSequence()) {
+    for (std::size_t i = 0; i < root.size(); ++i)
+      roi.addBox(readBox(r, root[i], YamlReader::index("", i)));
+    if (roi.empty())
+      r.fail("", "no boxes (the list is empty)");
+    return roi;
+  }
   bool has_boxes = false;
   r.forEach(root, "",
             {{"boxes", [&](const YAML::Node& boxes, const std::string& k) {

@@ -504,7 +504,7 @@ public:
       const Field* geometry = n.field("geometry");
       ++shapes_;
       if (geometry && !geometry->nodes.empty())
-        addGeometry(*geometry->nodes.front(), M, here);
+        addGeometry(*geometry->nodes.front(), M, here, materialName(n));
     } else if (n.type == "Inline")
       skipped_.insert("Inline");
     else if (!standardNodeTypes().count(n.type))
@@ -568,14 +568,30 @@ private:
     return m;
   }
 
-  std::uint32_t nodeId(const std::string& name)
+  /// The DEF name of a Shape's Material, else of its Appearance, else "".
+  static std::string materialName(const Node& shape)
   {
-    const auto it = ids_.find(name);
+    const Field* appearance = shape.field("appearance");
+    if (!appearance || appearance->nodes.empty())
+      return "";
+    const Node& a = *appearance->nodes.front();
+    const Field* material = a.field("material");
+    if (material && !material->nodes.empty() && !material->nodes.front()->def.empty())
+      return material->nodes.front()->def;
+    return a.def;
+  }
+
+  /// One id per (node, geometry, material) name triple.
+  std::uint32_t nodeId(const std::array<std::string, 3>& names)
+  {
+    const auto it = ids_.find(names);
     if (it != ids_.end())
       return it->second;
     const auto id = static_cast<std::uint32_t>(mesh_.node_names.size());
-    mesh_.node_names.push_back(name);
-    ids_.emplace(name, id);
+    mesh_.node_names.push_back(names[0]);
+    mesh_.geometry_names.push_back(names[1]);
+    mesh_.material_names.push_back(names[2]);
+    ids_.emplace(names, id);
     return id;
   }
 
@@ -603,13 +619,14 @@ private:
     return static_cast<std::uint32_t>(mesh_.vertices.size() - 1);
   }
 
-  void addGeometry(const Node& g, const Eigen::Affine3d& M, const std::string& name)
+  void addGeometry(const Node& g, const Eigen::Affine3d& M, const std::string& name,
+                   const std::string& material)
   {
     const std::string node_name = !g.def.empty() ? g.def
                                   : !name.empty()
                                       ? name
                                       : "shape_" + std::to_string(shapes_ - 1);
-    const std::uint32_t id = nodeId(node_name);
+    const std::uint32_t id = nodeId({node_name, g.def, material});
     // A mirroring transform turns the faces inside out; swapping two corners undoes it.
     flip_ = M.linear().determinant() < 0.0;
     if (g.type == "IndexedFaceSet")
@@ -763,7 +780,7 @@ private:
   std::uint64_t ear_clipping_steps_left_ = detail::kEarClippingStepsPerFile;
   std::uint64_t instances_ = 0;
   TriangleMesh mesh_;
-  std::unordered_map<std::string, std::uint32_t> ids_;
+  std::map<std::array<std::string, 3>, std::uint32_t> ids_;
   std::set<std::string> skipped_;
   std::size_t shapes_ = 0;
   bool flip_ = false;

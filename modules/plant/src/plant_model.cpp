@@ -37,12 +37,15 @@ std::vector<std::size_t> applyPartLabelRules(TriangleMesh& mesh,
   std::vector<std::regex> regexes;
   for (const auto& r : rules)
     regexes.emplace_back(r.pattern);
-  // Match each node name once, not each triangle.
+  // Match each node id's names once, not each triangle's.
   std::vector<int> rule_of_node(mesh.node_names.size(), -1);
-  for (std::size_t n = 0; n < mesh.node_names.size(); ++n)
+  for (std::size_t n = 0; n < mesh.node_names.size(); ++n) {
+    const auto names = mesh.namesOf(static_cast<std::uint32_t>(n));
     for (std::size_t r = 0; r < rules.size() && rule_of_node[n] < 0; ++r)
-      if (std::regex_match(mesh.node_names[n], regexes[r]))
-        rule_of_node[n] = static_cast<int>(r);
+      for (std::size_t k = 0; k < names.size() && rule_of_node[n] < 0; ++k)
+        if ((k == 0 || !names[k].empty()) && std::regex_match(names[k], regexes[r]))
+          rule_of_node[n] = static_cast<int>(r);
+  }
   if (mesh.labels.empty())
     mesh.labels.assign(mesh.size(), PartLabel::unknown);
   std::vector<std::size_t> counts(rules.size(), 0);

@@ -1,5 +1,10 @@
+#include <algorithm>
+#include <array>
 #include <cmath>
+#include <map>
 #include <sstream>
+#include <tuple>
+#include <utility>
 
 #include <plantnbv/common/error.h>
 #include <plantnbv/plant/plant_rois.h>
@@ -93,6 +98,66 @@ Roi fruitRoi(const Plant& plant, double margin_m)
       hi = hi.cwiseMax(f.center + reach);
     }
     roi.addBox(Box::fromMinMax(lo, hi, "truss_" + std::to_string(t)));
+  }
+  return roi;
+}
+
+Roi labelledPartRoi(const Plant& plant, PartLabel label)
+{
+  const TriangleMesh& mesh = plant.mesh;
+  // Union-find over vertex positions: files repeat a shared corner as several vertices.
+  std::map<std::array<float, 3>, std::size_t> position_id;
+  std::vector<std::size_t> parent;
+  auto find = [&parent](std::size_t i) {
+    while (parent[i] != i)
+      i = parent[i] = parent[parent[i]];
+    return i;
+  };
+  std::vector<std::size_t> part_triangles;
+  for (std::size_t t = 0; t < mesh.labels.size(); ++t) {
+    if (mesh.labels[t] != label)
+      continue;
+    part_triangles.push_back(t);
+    std::size_t first = 0;
+    for (int c = 0; c < 3; ++c) {
+      const Eigen::Vector3f& v = mesh.vertices[mesh.triangles[t][c]];
+      const auto [it, added] =
+          position_id.emplace(std::array<float, 3>{v.x(), v.y(), v.z()}, parent.size());
+      if (added)
+        parent.push_back(it->second);
+      if (c == 0)
+        first = find(it->second);
+      else
+        parent[find(it->second)] = first;
+    }
+  }
+  // Per group (by its root): the lowest and highest corner.
+  std::map<std::size_t, std::pair<Eigen::Vector3d, Eigen::Vector3d>> groups;
+  for (std::size_t t : part_triangles) {
+    const Eigen::Vector3f& v0 = mesh.vertices[mesh.triangles[t][0]];
+    const std::size_t root = find(position_id.at({v0.x(), v0.y(), v0.z()}));
+    auto [it, added] = groups.try_emplace(root, Eigen::Vector3d::Constant(INFINITY),
+                                          Eigen::Vector3d::Constant(-INFINITY));
+    for (auto i : mesh.triangles[t]) {
+      it->second.first = it->second.first.cwiseMin(mesh.vertices[i].cast<double>());
+      it->second.second = it->second.second.cwiseMax(mesh.vertices[i].cast<double>());
+    }
+  }
+  std::vector<Box> boxes;
+  // 1 um more on every side: the box holds its float vertices, and a flat part (a petal
+  // in a plane) still has a volume.
+  const Eigen::Vector3d grow = Eigen::Vector3d::Constant(1e-6);
+  for (const auto& group : groups)
+    boxes.push_back(
+        Box::fromMinMax(group.second.first - grow, group.second.second + grow));
+  std::sort(boxes.begin(), boxes.end(), [](const Box& a, const Box& b) {
+    return std::make_tuple(a.center.z(), a.center.x(), a.center.y()) <
+           std::make_tuple(b.center.z(), b.center.x(), b.center.y());
+  });
+  Roi roi;
+  for (std::size_t k = 0; k < boxes.size(); ++k) {
+    boxes[k].name = std::string(partLabelName(label)) + "_" + std::to_string(k);
+    roi.addBox(boxes[k]);
   }
   return roi;
 }

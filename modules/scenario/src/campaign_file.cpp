@@ -29,52 +29,64 @@ void readPlants(const YamlReader& r, const YAML::Node& node, const std::string& 
     CampaignPlant plant;
     std::vector<std::uint64_t> seeds;
     bool named = false;
-    r.forEach(node[i], p,
-              {{"seed",
-                [&](const YAML::Node& n, const std::string& k) {
-                  seeds.push_back(r.read<std::uint64_t>(n, k, "a seed (integer >= 0)"));
-                }},
-               {"seeds",
-                [&](const YAML::Node& n, const std::string& k) {
-                  seeds = r.readList<std::uint64_t>(n, k, "seeds (integers >= 0)");
-                  if (seeds.empty())
-                    r.fail(k, "expected at least one seed");
-                }},
-               {"stage",
-                [&](const YAML::Node& n, const std::string& k) {
-                  plant.stage = r.read<double>(n, k, "a growth stage in [0, 1]");
-                  if (!(*plant.stage >= 0.0 && *plant.stage <= 1.0))
-                    r.fail(k, n.Scalar() + " is not in [0, 1]");
-                }},
-               {"simplified",
-                [&](const YAML::Node& n, const std::string& k) {
-                  plant.simplified = r.read<bool>(n, k, "true or false");
-                }},
-               {"model",
-                [&](const YAML::Node& n, const std::string& k) {
-                  // One file, or a list: a plant split into several mesh files.
-                  if (n.IsSequence()) {
-                    for (std::size_t i = 0; i < n.size(); ++i)
-                      (i ? plant.model_parts.emplace_back() : plant.model) =
-                          r.read<std::string>(n[i], k + "[" + std::to_string(i) + "]",
-                                              "a file name");
-                  } else {
-                    plant.model =
-                        r.read<std::string>(n, k, "a file name or a list of them");
-                  }
-                }},
-               {"labels",
-                [&](const YAML::Node& n, const std::string& k) {
-                  plant.labels = r.read<std::string>(n, k, "label rules");
-                }},
-               {"rois",
-                [&](const YAML::Node& n, const std::string& k) {
-                  plant.rois = r.read<std::string>(n, k, "an ROI file name");
-                }},
-               {"name", [&](const YAML::Node& n, const std::string& k) {
-                  plant.name = r.read<std::string>(n, k, "a name");
-                  named = true;
-                }}});
+    r.forEach(
+        node[i], p,
+        {{"seed",
+          [&](const YAML::Node& n, const std::string& k) {
+            seeds.push_back(r.read<std::uint64_t>(n, k, "a seed (integer >= 0)"));
+          }},
+         {"seeds",
+          [&](const YAML::Node& n, const std::string& k) {
+            seeds = r.readList<std::uint64_t>(n, k, "seeds (integers >= 0)");
+            if (seeds.empty())
+              r.fail(k, "expected at least one seed");
+          }},
+         {"stage",
+          [&](const YAML::Node& n, const std::string& k) {
+            plant.stage = r.read<double>(n, k, "a growth stage in [0, 1]");
+            if (!(*plant.stage >= 0.0 && *plant.stage <= 1.0))
+              r.fail(k, n.Scalar() + " is not in [0, 1]");
+          }},
+         {"simplified",
+          [&](const YAML::Node& n, const std::string& k) {
+            plant.simplified = r.read<bool>(n, k, "true or false");
+          }},
+         {"model",
+          [&](const YAML::Node& n, const std::string& k) {
+            // One file, or a list: a plant split into several mesh files.
+            if (n.IsSequence()) {
+              for (std::size_t i = 0; i < n.size(); ++i)
+                (i ? plant.model_parts.emplace_back() : plant.model) =
+                    r.read<std::string>(n[i], k + "[" + std::to_string(i) + "]",
+                                        "a file name");
+            } else {
+              plant.model = r.read<std::string>(n, k, "a file name or a list of them");
+            }
+          }},
+         {"labels",
+          [&](const YAML::Node& n, const std::string& k) {
+            plant.labels = r.read<std::string>(n, k, "label rules");
+          }},
+         {"rois",
+          [&](const YAML::Node& n, const std::string& k) {
+            plant.rois = r.read<std::string>(n, k, "an ROI file name");
+          }},
+         {"scale",
+          [&](const YAML::Node& n, const std::string& k) {
+            plant.scale = r.read<double>(n, k, "metres per file unit");
+            if (!(std::isfinite(plant.scale) && plant.scale > 0.0))
+              r.fail(k, n.Scalar() + " is not a number of metres > 0");
+          }},
+         {"sector_radius",
+          [&](const YAML::Node& n, const std::string& k) {
+            plant.sector_radius_m = r.read<double>(n, k, "a radius in metres");
+            if (!(std::isfinite(*plant.sector_radius_m) && *plant.sector_radius_m > 0.0))
+              r.fail(k, n.Scalar() + " is not a radius in metres > 0");
+          }},
+         {"name", [&](const YAML::Node& n, const std::string& k) {
+            plant.name = r.read<std::string>(n, k, "a name");
+            named = true;
+          }}});
     if (seeds.empty() == plant.model.empty())
       r.fail(p, "give a seed, seeds or a model file");
     if (!plant.model.empty()) {
@@ -89,6 +101,8 @@ void readPlants(const YamlReader& r, const YAML::Node& node, const std::string& 
     }
     if (!plant.labels.empty())
       r.fail(p + ".labels", "label rules belong to a model file");
+    if (plant.scale != 0.0)
+      r.fail(p + ".scale", "a scale belongs to a model file");
     if (named && seeds.size() > 1)
       r.fail(p + ".name", "one name for several seeds");
     for (std::uint64_t seed : seeds) {
@@ -232,8 +246,13 @@ CampaignStudy readStudy(const YamlReader& r, const YAML::Node& node, const std::
               [&](const YAML::Node& n, const std::string& k) {
                 study.candidates = r.readList<int>(n, k, "candidate counts (integers)");
               }},
-             {"resolutions", [&](const YAML::Node& n, const std::string& k) {
+             {"resolutions",
+              [&](const YAML::Node& n, const std::string& k) {
                 study.resolutions_m = r.readList<double>(n, k, "resolutions (metres)");
+              }},
+             {"row_spacings", [&](const YAML::Node& n, const std::string& k) {
+                study.row_spacings_m =
+                    r.readList<double>(n, k, "distances between plants (metres)");
               }}});
   if (study.name.empty())
     r.fail(p + ".name", "missing");
@@ -415,11 +434,14 @@ void runCampaignTrial(const CampaignFile& f, const TrialSpec& t, TrialResult& re
   for (const std::string& part : plant.model_parts)
     source.model_parts.push_back(resolve(f, part));
   source.labels = plant.labels;
+  source.scale = plant.scale;
   source.rois = resolve(f, plant.rois);
   source.yaw_deg = t.yaw_deg;
   const PlacedPlant placed = makePlacedPlant(source);
   TrialConfig config = campaignTrialConfig(f, t);
   fitSectorToPlant(placed, std::nullopt, config);
+  if (plant.sector_radius_m)
+    config.sector.radius_m = *plant.sector_radius_m;
   std::vector<EvaluationLevel> levels = evaluationLevels(placed);
   const std::vector<std::string>& wanted = f.definition.levels;
   if (!wanted.empty())
@@ -442,6 +464,7 @@ void runCampaignTrial(const CampaignFile& f, const TrialSpec& t, TrialResult& re
   }
   Trial trial(config);
   setUpTrial(placed, attentionRoi(placed, attention), levels, trial);
+  trial.setNeighbours(rowNeighbourPlants(placed, t.row_spacing_m, config));
   trial.run(result);
 }
 

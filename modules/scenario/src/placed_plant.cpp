@@ -32,9 +32,12 @@ void checkSource(const PlantSource& s)
   if (s.seed.has_value() == !s.model.empty())
     throw InvalidArgumentError(s.seed ? "plant source: a seed and a model file; give one"
                                       : "plant source: give a seed or a model file");
-  if (s.seed && (!s.labels.empty() || s.keep_frame))
+  if (s.seed && (!s.labels.empty() || s.keep_frame || s.scale != 0.0))
     throw InvalidArgumentError(
-        "plant source: labels and keep_frame belong to a model file");
+        "plant source: labels, scale and keep_frame belong to a model file");
+  if (!(std::isfinite(s.scale) && s.scale >= 0.0))
+    throw InvalidArgumentError("plant source: the scale must be metres per file unit, "
+                               "a finite number > 0, or 0 for the file's own unit");
   if (!s.model_parts.empty() && s.model.empty())
     throw InvalidArgumentError("plant source: model parts without a model file");
   if (!s.model.empty() && (s.stage || s.simplified))
@@ -80,24 +83,26 @@ PlacedPlant generatedPlant(const PlantSource& s, double yaw_rad)
 /// A scan keeps its points; labels come from its label field. A label beyond ours (a
 /// data set's own numbering) is read as background and counted in `warnings`.
 Plant scannedPlant(const std::string& path, const std::string& name, bool keep_frame,
-                   std::vector<std::string>& warnings)
+                   double scale, std::vector<std::string>& warnings)
 {
   CloudXYZL cloud;
   io::loadCloud(path, cloud);
-  constexpr auto kLast = static_cast<std::uint32_t>(PartLabel::background);
+  constexpr auto kLast = static_cast<std::uint32_t>(kLastPartLabel);
   std::vector<Eigen::Vector3f> points;
   std::vector<PartLabel> labels;
   std::size_t foreign = 0;
   for (const auto& p : cloud)
     if (std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z)) {
-      points.push_back(p.getVector3fMap());
+      points.push_back(scale > 0.0
+                           ? (scale * p.getVector3fMap().cast<double>()).cast<float>()
+                           : Eigen::Vector3f(p.getVector3fMap()));
       foreign += p.label > kLast;
-      labels.push_back(static_cast<PartLabel>(std::min<std::uint32_t>(p.label, kLast)));
+      labels.push_back(p.label > kLast ? PartLabel::background : PartLabel(p.label));
     }
   if (foreign > 0)
     warnings.push_back(std::to_string(foreign) + " points of '" + path +
                        "' have a label above " + std::to_string(kLast) +
-                       " (ours: 0 unknown to 6 background; docs/plants.md) and are read "
+                       " (ours: 0 unknown to 7 flower; docs/plants.md) and are read "
                        "as background");
   return plantFromScan(std::move(points), std::move(labels), name, keep_frame);
 }
@@ -105,7 +110,7 @@ Plant scannedPlant(const std::string& path, const std::string& name, bool keep_f
 /// The model's mesh files as one mesh. A file that names no node or mesh (PLY, STL)
 /// names its triangles by its file's stem, so that label rules can tell the files of a
 /// plant split by part apart ("stem=stem" for stem.ply).
-TriangleMesh loadModelMesh(const PlantSource& s)
+TriangleMesh loadModelMesh(const PlantSource& s, std::vector<std::string>& warnings)
 {
   std::vector<std::string> files{s.model};
   files.insert(files.end(), s.model_parts.begin(), s.model_parts.end());
@@ -115,11 +120,23 @@ TriangleMesh loadModelMesh(const PlantSource& s)
       throw FormatError("model '" + file +
                         "': a plant split into several files takes mesh files (.dae "
                         ".obj .ply .stl .wrl)");
-    TriangleMesh mesh = io::loadMesh(file);
-    const bool named = std::any_of(mesh.node_names.begin(), mesh.node_names.end(),
+    io::MeshLoadOptions options;
+    options.scale = s.scale;
+    io::MeshFileUnits units;
+    TriangleMesh mesh = io::loadMesh(file, options, &units);
+    if (units.can_declare_unit && !units.unit_declared && s.scale == 0.0)
+      warnings.push_back("'" + file +
+                         "' declares no <unit>: read in metres (Collada's default); give "
+                         "the model's scale if it is in other units");
+    bool named = false;
+    for (const auto* names :
+         {&mesh.node_names, &mesh.geometry_names, &mesh.material_names})
+      named = named || std::any_of(names->begin(), names->end(),
                                    [](const std::string& n) { return !n.empty(); });
     if (!named || mesh.node_ids.empty()) {
       mesh.node_names = {std::filesystem::path(file).stem().string()};
+      mesh.geometry_names.clear();
+      mesh.material_names.clear();
       mesh.node_ids.assign(mesh.triangles.size(), 0);
     }
     all.append(mesh);
@@ -135,7 +152,7 @@ PlacedPlant modelPlant(const PlantSource& s, double yaw_rad)
       s.model_parts.empty() ? io::fileKind(s.model) : io::FileKind::mesh;
   switch (kind) {
   case io::FileKind::mesh: {
-    TriangleMesh mesh = loadModelMesh(s);
+    TriangleMesh mesh = loadModelMesh(s, out.warnings);
     if (!s.labels.empty()) {
       const std::vector<PartLabelRule> rules = parsePartLabelRules(s.labels);
       const std::vector<std::size_t> labelled = applyPartLabelRules(mesh, rules);
@@ -145,8 +162,9 @@ PlacedPlant modelPlant(const PlantSource& s, double yaw_rad)
               "label rule " + std::string(partLabelName(rules[i].label)) + "=" +
               rules[i].pattern + " matches no triangle of '" + s.model + "'" +
               (s.model_parts.empty() ? "" : " and its other files") +
-              " (rules match node names, or the file's name where it has none; the "
-              "first that matches wins)");
+              " (rules match node, geometry and material names, or the file's name where "
+              "it "
+              "has none; the first that matches wins)");
     }
     out.plant = plantFromMesh(std::move(mesh), name, s.keep_frame);
     break;
@@ -155,7 +173,7 @@ PlacedPlant modelPlant(const PlantSource& s, double yaw_rad)
     if (!s.labels.empty())
       throw InvalidArgumentError("label rules map mesh node names; the scan '" + s.model +
                                  "' has none (its labels come from its label field)");
-    out.plant = scannedPlant(s.model, name, s.keep_frame, out.warnings);
+    out.plant = scannedPlant(s.model, name, s.keep_frame, s.scale, out.warnings);
     break;
   case io::FileKind::octree:
     throw FormatError("model '" + s.model + "' is an octree; expected a mesh or a cloud");
@@ -163,6 +181,9 @@ PlacedPlant modelPlant(const PlantSource& s, double yaw_rad)
   if (!s.keep_frame)
     posePlant(out.plant, s.base, yaw_rad);
   out.rois.emplace(RoiKind::whole_plant, boundingBoxRoi(out.plant));
+  // A labelled model's fruits, one box each: `--attention fruit` and the fruit level.
+  if (Roi fruits = labelledPartRoi(out.plant, PartLabel::fruit); !fruits.empty())
+    out.rois.emplace(RoiKind::fruit, std::move(fruits));
 
   std::ostringstream d;
   d << "model " << s.model;
@@ -183,10 +204,49 @@ PlacedPlant makePlacedPlant(const PlantSource& source)
   const double yaw_rad = source.yaw_deg * M_PI / 180.0;
   PlacedPlant placed =
       source.seed ? generatedPlant(source, yaw_rad) : modelPlant(source, yaw_rad);
-  if (!source.rois.empty()) // the user's boxes, generated plant or model
+  if (!source.rois.empty()) { // the user's boxes, generated plant or model
     placed.model_rois = io::loadRoi(source.rois);
+    // Boxes drawn in another frame (a model file's own, the plant not kept there) miss.
+    const Box plant_box = boundingBoxRoi(placed.plant).boxes().front();
+    for (std::size_t i = 0; i < placed.model_rois.size(); ++i) {
+      const Box& box = placed.model_rois.boxes()[i];
+      if (!box.overlaps(plant_box))
+        placed.warnings.push_back(
+            "ROI box " + std::to_string(i) +
+            (box.name.empty() ? "" : " '" + box.name + "'") + " of '" + source.rois +
+            "' does not overlap the plant: ROI files are in the world frame the plant "
+            "stands in (boxes in a model file's own coordinates need --keep-frame)");
+    }
+  }
   placed.source = source;
   return placed;
+}
+
+std::vector<PlacedPlant> rowNeighbours(const PlantSource& target, double spacing_m,
+                                       double facing_rad)
+{
+  if (!(std::isfinite(spacing_m) && spacing_m > 0.0))
+    throw InvalidArgumentError("row: the spacing must be a finite number of metres > 0");
+  if (!std::isfinite(facing_rad))
+    throw InvalidArgumentError("row: the facing azimuth must be finite");
+  if (target.keep_frame)
+    throw InvalidArgumentError(
+        "row: a plant with its file frame kept has no base to place neighbours from");
+  const Eigen::Vector3d along(-std::sin(facing_rad), std::cos(facing_rad), 0.0);
+  std::vector<PlacedPlant> out;
+  for (int side = 0; side < 2; ++side) {
+    PlantSource s = target;
+    s.rois.clear(); // the target's boxes, not theirs
+    if (s.seed)
+      s.seed = *s.seed < static_cast<std::uint64_t>(kDefaultPlantCount)
+                   ? (*s.seed + 1 + side) % kDefaultPlantCount
+                   : *s.seed + 1 + side;
+    s.base = target.base + (side == 0 ? -spacing_m : spacing_m) * along;
+    // The turn stays within +-360 degrees.
+    s.yaw_deg = std::remainder(target.yaw_deg + 120.0 * (side + 1), 360.0);
+    out.push_back(makePlacedPlant(s));
+  }
+  return out;
 }
 
 } // namespace scenario

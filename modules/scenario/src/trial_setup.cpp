@@ -69,8 +69,9 @@ Roi attentionRoi(const PlacedPlant& placed, const Attention& attention)
     return *roi;
   throw InvalidArgumentError("attention " + attention.name() + ": the plant has no " +
                              attention.name() +
-                             " ROI (a loaded model has whole_plant and the boxes of its "
-                             "ROI file; give an ROI file instead)");
+                             " ROI (a loaded model has whole_plant, fruit when triangles "
+                             "are labelled fruit, and the boxes of its ROI file; give an "
+                             "ROI file instead)");
 }
 
 std::vector<EvaluationLevel> evaluationLevels(const PlacedPlant& placed)
@@ -192,6 +193,8 @@ TrialConfig makeTrialConfig(const TrialOverrides& o, const PlacedPlant& placed,
     c.scene.floor = c.scene.support = *o.background;
   o.roi.applyTo(c.roi_source, option_prefix);
   fitSectorToPlant(placed, o.sector_height_m, c);
+  if (o.sector_radius_m)
+    c.sector.radius_m = *o.sector_radius_m;
   c.validate();
   return c;
 }
@@ -218,13 +221,11 @@ std::vector<std::string> trialWarnings(const PlacedPlant& placed,
   if (config.planner == PlannerKind::nbv && !attention.empty()) {
     Eigen::Vector3f lo, hi;
     placed.plant.bounds(lo, hi);
+    const Box plant_box = Box::fromMinMax(lo.cast<double>(), hi.cast<double>());
     const Box roi = attention.boundingBox();
     // No box meets the plant (their union's bounding box may, between them).
-    const bool apart = std::none_of(
-        attention.boxes().begin(), attention.boxes().end(), [&](const Box& b) {
-          return (b.max().array() >= lo.cast<double>().array()).all() &&
-                 (b.min().array() <= hi.cast<double>().array()).all();
-        });
+    const bool apart = std::none_of(attention.boxes().begin(), attention.boxes().end(),
+                                    [&](const Box& b) { return b.overlaps(plant_box); });
     if (apart) {
       std::ostringstream s;
       s << std::setprecision(3);
@@ -244,6 +245,19 @@ std::vector<std::string> trialWarnings(const PlacedPlant& placed,
     }
   }
   return warnings;
+}
+
+NeighbourPlants rowNeighbourPlants(const PlacedPlant& placed, double spacing_m,
+                                   const TrialConfig& config)
+{
+  NeighbourPlants neighbours;
+  if (spacing_m == 0.0)
+    return neighbours;
+  CylindricalSector sector = config.sector; // facing the robot from the plant's base
+  sector.axis_base = placed.plant.base_position;
+  for (PlacedPlant& n : rowNeighbours(placed.source, spacing_m, sector.facingAzimuth()))
+    neighbours.push_back(std::make_shared<const Plant>(std::move(n.plant)));
+  return neighbours;
 }
 
 void setUpTrial(const PlacedPlant& placed, const Roi& attention,

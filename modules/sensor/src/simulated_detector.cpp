@@ -14,12 +14,6 @@ namespace plantnbv {
 
 namespace {
 
-bool isPlant(std::uint32_t label)
-{
-  return label >= std::uint32_t(PartLabel::stem) &&
-         label <= std::uint32_t(PartLabel::fruit);
-}
-
 /// A box edge moved by N(0, sigma^2), clipped to [0, side].
 double jittered(double edge, double sigma_px, double side, Rng& rng)
 {
@@ -75,7 +69,7 @@ void SimulatedDetector::detect(const CloudXYZL& frame_W, const Roi& truth,
     std::vector<std::uint32_t> pixels;
     for (std::size_t i = 0; i < n; ++i) {
       const pcl::PointXYZL& p = frame_W.points[i];
-      if (isPlant(p.label) && std::isfinite(p.x) && box.contains(p.x, p.y, p.z))
+      if (isPlantPart(p.label) && std::isfinite(p.x) && box.contains(p.x, p.y, p.z))
         pixels.push_back(std::uint32_t(i));
     }
     // One draw per instance, seen or not, so that an instance's fate does not depend on

@@ -23,6 +23,8 @@ Rgb partLabelColor(PartLabel label)
     return {0.86f, 0.10f, 0.08f};
   case PartLabel::background:
     return {0.55f, 0.55f, 0.55f};
+  case PartLabel::flower:
+    return {0.98f, 0.82f, 0.10f};
   }
   throw InvalidArgumentError("unknown part label value " +
                              std::to_string(static_cast<unsigned>(label)));

@@ -978,7 +978,7 @@ void SceneSnapshot::render(const std::string& png_path) const
 
 void addPartLegend(const std::vector<PartLabel>& labels, SceneSnapshot& snapshot)
 {
-  constexpr std::size_t kLabels = static_cast<std::size_t>(PartLabel::background) + 1;
+  constexpr std::size_t kLabels = static_cast<std::size_t>(kLastPartLabel) + 1;
   bool seen[kLabels] = {};
   for (PartLabel l : labels)
     if (static_cast<std::size_t>(l) < kLabels)

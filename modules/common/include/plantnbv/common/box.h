@@ -36,6 +36,8 @@ struct Box {
   bool contains(const Eigen::Vector3d& p) const;
   /// \brief contains() for a float point, as PCL stores it.
   bool contains(float x, float y, float z) const;
+  /// \brief True if the two closed boxes share a point (touching faces count).
+  bool overlaps(const Box& other) const;
   /// \brief True if the triangle abc and the closed box share a point (exact
   /// separating-axis test: the box's 3 face normals, the triangle's normal and the 9
   /// cross products of their edges). A triangle touching a face overlaps.

@@ -13,16 +13,24 @@
 namespace plantnbv {
 
 /// \brief What a surface is part of. Stored as `label` in pcl::PointXYZL and in PLY
-/// files.
+/// files. The values are kept across versions (a new label takes the next value).
 enum class PartLabel : std::uint32_t {
   unknown = 0,
-  stem = 1,
-  petiole = 2,
-  leaflet = 3,
-  peduncle = 4,
-  fruit = 5,
-  background = 6,
+  stem = 1,       ///< main stem and side shoots
+  petiole = 2,    ///< leaf stalks and the rachis between leaflets
+  leaflet = 3,    ///< leaf blades
+  peduncle = 4,   ///< truss stalks and fruit pedicels
+  fruit = 5,      ///< fruits, with the calyx (sepals) that stays on a fruit
+  background = 6, ///< floor, support, walls: not the plant
+  flower = 7,     ///< blossoms and buds: petals, their sepals (calyx) and anthers
 };
+
+/// \brief The largest PartLabel value: labels above it are not ours.
+constexpr PartLabel kLastPartLabel = PartLabel::flower;
+
+/// \brief True for the labels of plant organs (stem to fruit, flower): not unknown, not
+/// background, not a value beyond kLastPartLabel.
+bool isPlantPart(std::uint32_t label);
 
 /// \brief The label's name ("stem", ...). \throws InvalidArgumentError for other values.
 const char* partLabelName(PartLabel label);
@@ -33,13 +41,18 @@ PartLabel partLabelFromName(const std::string& name);
 ///
 /// `labels` and `node_ids` are either empty or hold one entry per triangle. `node_ids`
 /// index `node_names`: the names of the scene-graph nodes or meshes a file gave, kept so
-/// that parts can be labelled afterwards by name.
+/// that parts can be labelled afterwards by name. `geometry_names` and `material_names`
+/// are either empty or parallel to `node_names`: entry i names the geometry (mesh) and
+/// the material of the triangles with node id i ("" where the file gives none), as
+/// modelling tools that export parts only as materials need.
 struct TriangleMesh {
   std::vector<Eigen::Vector3f> vertices;               ///< world frame, metres
   std::vector<std::array<std::uint32_t, 3>> triangles; ///< three indices into `vertices`
   std::vector<PartLabel> labels;       ///< one per triangle, or empty (unlabelled)
   std::vector<std::uint32_t> node_ids; ///< one per triangle (into `node_names`), or empty
   std::vector<std::string> node_names; ///< the file's node or mesh names
+  std::vector<std::string> geometry_names; ///< per node id: its geometry's name, or empty
+  std::vector<std::string> material_names; ///< per node id: its material's name, or empty
 
   /// \brief The number of triangles.
   std::size_t size() const { return triangles.size(); }
@@ -52,7 +65,11 @@ struct TriangleMesh {
   double triangleArea(std::size_t t) const;
   /// \brief Axis-aligned bounds of the vertices. \throws InvalidArgumentError when empty.
   void bounds(Eigen::Vector3f& min, Eigen::Vector3f& max) const;
-  /// \brief Appends another mesh (its node names are appended too).
+  /// \brief The names a triangle with node id `id` carries: node, geometry and material
+  /// name ("" where there is none).
+  std::array<std::string, 3> namesOf(std::uint32_t id) const;
+  /// \brief Appends another mesh (its node, geometry and material names are appended
+  /// too).
   void append(const TriangleMesh& other);
   /// \brief Checks sizes, indices and finiteness. \throws FormatError naming the defect.
   void validate() const;

@@ -23,7 +23,10 @@ struct CampaignPlant {
   std::string model;                    ///< or a mesh / cloud file
   std::vector<std::string> model_parts; ///< further mesh files of the model
   std::string labels;                   ///< part label rules of a mesh model
+  double scale = 0.0;                   ///< a model's metres per file unit; 0: the file's
   std::string rois;                     ///< ROI file of a model
+  /// The sector radius for this plant (metres); unset: the trial config's (0.4 m).
+  std::optional<double> sector_radius_m;
 };
 
 /// \brief A planner of a study: NBV with an attention ROI, pre-defined with its
@@ -45,6 +48,9 @@ struct CampaignStudy {
   std::vector<bool> simplified;          ///< plants with half of their leaflets removed
   std::vector<int> candidates; ///< candidates per step (multiples of the grid cells)
   std::vector<double> resolutions_m; ///< map resolution = rho
+  /// Greenhouse rows: the distance of a neighbour on each side (metres; 0: the plant
+  /// alone; scenario::rowNeighbours).
+  std::vector<double> row_spacings_m;
 };
 
 /// \brief A whole campaign (plain values; apps read it from YAML).
@@ -73,7 +79,8 @@ struct CampaignDefinition {
 struct TrialSpec {
   /// Stable and readable: study/planner[-pK]/[variant/]plant/yawDDD/repR, e.g.
   /// "main/nbv-leaf-nodes/plant03/yaw090/rep0", "main/predefined-p2/plant03/yaw090/rep0",
-  /// "candidates/nbv-leaf-nodes/c45/plant03/yaw090/rep0".
+  /// "candidates/nbv-leaf-nodes/c45/plant03/yaw090/rep0",
+  /// "row/random/row25cm/plant03/yaw090/rep0" ("alone" for a row spacing of 0).
   std::string id;
   std::string study;   ///< CampaignStudy::name
   std::string variant; ///< e.g. "c45", "res5mm", "simplified"; empty for one variant
@@ -89,6 +96,7 @@ struct TrialSpec {
   int repetition = 0;                  ///< 0, 1, ... (CampaignDefinition::repetitions)
   int candidates = 27;                 ///< candidates per step
   double resolution_m = 0.003;         ///< map resolution = rho (metres)
+  double row_spacing_m = 0.0;          ///< neighbours this far on each side; 0: none
   int views = 10;                      ///< view budget, v0 included
   std::uint64_t seed = 0;              ///< deriveSeed(campaign seed, hash of the id)
   /// What determines the trial's result, hashed: the campaign's content_fingerprint,

@@ -4,6 +4,7 @@
 /// surfels) on a support over a floor, as a committed sensor scene. The sensor renders
 /// any meshes and surfels; this is where a plant becomes them.
 
+#include <memory>
 #include <vector>
 
 #include <plantnbv/common/triangle_mesh.h>
@@ -37,19 +38,28 @@ struct PlantSceneConfig {
   void validate() const;
 };
 
+/// \brief Plants beside the scored one, as in a greenhouse row (paper section 5.4): in
+/// the scene, where they occlude and are mapped, each on its own support, but neither
+/// ground truth nor ROI. Meshes only (posed in the world frame).
+using NeighbourPlants = std::vector<std::shared_ptr<const Plant>>;
+
 /// \brief The background makePlantScene puts around `plant`: the floor and the support
-/// of `config` (either may be left out), in that order.
-/// \throws InvalidArgumentError for an invalid config.
+/// of `config` (either may be left out), then each neighbour's mesh and support, all
+/// labelled `background`.
+/// \throws InvalidArgumentError for an invalid config or a neighbour without a mesh (a
+/// scan).
 std::vector<TriangleMesh> plantSceneBackground(const Plant& plant,
-                                               const PlantSceneConfig& config = {});
+                                               const PlantSceneConfig& config = {},
+                                               const NeighbourPlants& neighbours = {});
 
 /// \brief The scene of a plant as the paper's experiments had it: the plant (its mesh,
 /// or its scan points as surfels when it has no mesh) where it is posed, plus the floor
-/// and the support of `config` (centred under Plant::base_position). Committed, with
-/// `threads` for the BVH build (0: all cores).
+/// and the support of `config` (centred under Plant::base_position) and the neighbours
+/// (plantSceneBackground). Committed, with `threads` for the BVH build (0: all cores).
 /// \throws InvalidArgumentError for an invalid config or a plant with neither mesh nor
 /// scan points; FormatError for a malformed mesh.
 SensorScene::Ptr makePlantScene(const Plant& plant, const PlantSceneConfig& config = {},
-                                unsigned int threads = 0);
+                                unsigned int threads = 0,
+                                const NeighbourPlants& neighbours = {});
 
 } // namespace plantnbv

@@ -55,7 +55,7 @@ struct OrganRecall {
 };
 
 /// \brief The organs computeOrganRecall reports, in its order: stem, petiole, leaflet,
-/// peduncle, fruit.
+/// peduncle, fruit, flower.
 const std::vector<PartLabel>& evaluatedOrgans();
 
 /// \brief The voxels behind one level's scores, sorted by outcome (metres, world frame),

@@ -202,6 +202,9 @@ public:
   /// \brief The plant, posed in the world frame: the sensor's scene and the ground
   /// truth (not copied; it must not change during run()).
   void setPlant(std::shared_ptr<const Plant> plant);
+  /// \brief Plants beside it (a greenhouse row; plant_scene.h): in the scene, occluding
+  /// and mapped, but not scored (their voxels are left out as background). Default none.
+  void setNeighbours(NeighbourPlants neighbours) { neighbours_ = std::move(neighbours); }
   /// \brief The attention ROI of the NBV planner (also used to report the gain of the
   /// baselines' views), before TrialConfig::roi_source. Empty: every voxel counts (plain
   /// volumetric NBV).
@@ -249,6 +252,7 @@ public:
 private:
   TrialConfig config_;
   std::shared_ptr<const Plant> plant_;
+  NeighbourPlants neighbours_;
   Roi attention_;
   Roi exploration_;
   Roi attended_;

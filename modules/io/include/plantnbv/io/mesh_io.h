@@ -26,6 +26,14 @@
 ///   Shapes from 0 in the order they are met; a USEd Shape counts again);
 /// - PLY: none (`node_ids` stays empty).
 ///
+/// Geometry and material names (`TriangleMesh::geometry_names`, `material_names`; a
+/// distinct (node, geometry, material) triple gets its own node id), for files whose
+/// parts are named only there (3ds Max exports name parts by material):
+/// - Collada: the `<geometry>`'s name (else its id) and the `<material>`'s name (else
+///   its id); OBJ: the `usemtl` name; STL: none;
+/// - VRML: the geometry node's DEF name and the DEF name of the Shape's Material, else
+///   of its Appearance.
+///
 /// VRML support covers what plant models use: Transform (full VRML97 matrix), Group,
 /// Collision, Anchor, Billboard (as a Group), Switch, LOD (first level), Shape with
 /// IndexedFaceSet, Box, Cylinder, Cone, Sphere, DEF/USE. PROTO instances and Inline are
@@ -60,6 +68,13 @@ struct MeshLoadOptions {
   InputLimits limits = defaultInputLimits();
 };
 
+/// \brief What loadMesh made of a file's unit, so a caller can say it.
+struct MeshFileUnits {
+  bool can_declare_unit = false; ///< the format has a unit element (Collada)
+  bool unit_declared = false;    ///< the file declares one (`<unit meter="...">`)
+  double metres_per_unit = 1.0;  ///< the scale applied (MeshLoadOptions::scale if set)
+};
+
 /// \brief Reads a mesh (the format from the extension, case-insensitive). Degenerate
 /// faces are kept (they carry zero area). A PLY face `label` (any integer type) fills
 /// `TriangleMesh::labels`.
@@ -68,8 +83,9 @@ struct MeshLoadOptions {
 /// coordinate (the message names the vertex) or a PLY label outside PartLabel, exceeds
 /// a cap of the limits (the message names it), or the extension is unknown (the message
 /// names it and the accepted ones); InvalidArgumentError for a negative or non-finite
-/// scale.
-TriangleMesh loadMesh(const std::string& path, const MeshLoadOptions& options = {});
+/// scale. `units`, when given, receives what was made of the file's unit.
+TriangleMesh loadMesh(const std::string& path, const MeshLoadOptions& options = {},
+                      MeshFileUnits* units = nullptr);
 
 /// \brief The checks loadMesh makes on a Collada file's text before Assimp reads it:
 /// node graphs (cycles through `<instance_node>`, nesting, expansion), arrays, accessors

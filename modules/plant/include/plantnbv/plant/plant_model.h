@@ -1,7 +1,7 @@
 #pragma once
 /// \file plant_model.h
-/// \brief Plants from mesh files (a Gazebo model, a CAD export): part labels from node
-/// names, and placement in the plant frame.
+/// \brief Plants from mesh files (a Gazebo model, a CAD export): part labels from node,
+/// geometry or material names, and placement in the plant frame.
 
 #include <string>
 #include <vector>
@@ -10,11 +10,11 @@
 
 namespace plantnbv {
 
-/// \brief Triangles whose node name fully matches `pattern` (ECMAScript regular
-/// expression) get `label`.
+/// \brief Triangles whose node name, geometry name or material name fully matches
+/// `pattern` (ECMAScript regular expression) get `label`.
 struct PartLabelRule {
   PartLabel label = PartLabel::unknown; ///< the label the matching triangles get
-  std::string pattern;                  ///< ECMAScript regex matched against node names
+  std::string pattern; ///< ECMAScript regex matched against a triangle's three names
 };
 
 /// \brief Parses "stem=Branch.*,leaflet=Leaf.*,fruit=Fruit.*": comma-separated
@@ -23,9 +23,10 @@ struct PartLabelRule {
 /// '=', an empty pattern or an invalid regular expression.
 std::vector<PartLabelRule> parsePartLabelRules(const std::string& spec);
 
-/// \brief Labels every triangle by the first rule its node name matches; triangles that
-/// match none keep their label (or get `unknown` if the mesh had no labels). Returns the
-/// number of triangles each rule labelled, in rule order.
+/// \brief Labels every triangle by the first rule that one of its names matches (node,
+/// geometry or material name: TriangleMesh::namesOf); triangles that match none keep
+/// their label (or get `unknown` if the mesh had no labels). Returns the number of
+/// triangles each rule labelled, in rule order.
 std::vector<std::size_t> applyPartLabelRules(TriangleMesh& mesh,
                                              const std::vector<PartLabelRule>& rules);
 

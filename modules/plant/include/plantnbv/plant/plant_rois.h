@@ -53,6 +53,14 @@ Roi leafNodeRoi(const Plant& plant);
 /// \throws InvalidArgumentError for a negative or non-finite margin.
 Roi fruitRoi(const Plant& plant, double margin_m = 0.0);
 
+/// \brief One box per connected group of the mesh's triangles labelled `label` (triangles
+/// meet when they share a vertex position), the group's bounding box grown by 1 um,
+/// named "<label>_<k>" (k from 0, lowest box centre first, then by x and y): the fruit
+/// ROI of a labelled model (`labelledPartRoi(plant, PartLabel::fruit)`, one box per
+/// fruit), whose anatomy has no trusses. Touching fruits make one box. Empty when no
+/// triangle carries the label (a scan: its points have no connectivity).
+Roi labelledPartRoi(const Plant& plant, PartLabel label);
+
 /// \brief The axis-aligned bounding box of the plant's mesh or scan, named "whole_plant":
 /// the whole-plant ROI of a loaded model, whose size the paper's 0.3 x 0.3 x 0.7 m box
 /// may not fit. \throws InvalidArgumentError for an empty mesh.

@@ -34,7 +34,10 @@ struct PlantSource {
   /// per part), merged with `model` into one mesh.
   std::vector<std::string> model_parts;
   std::string labels; ///< part label rules of a mesh, e.g. "stem=Branch.*,leaflet=Leaf.*"
-  std::string rois;   ///< the user's ROI file (world frame): the level "model_rois"
+  /// A model's metres per file unit (0.01: centimetres); 0 = the file's (Collada's
+  /// `<unit>`, else metres). Replaces the file's unit (io::MeshLoadOptions::scale).
+  double scale = 0.0;
+  std::string rois;        ///< the user's ROI file (world frame): the level "model_rois"
   bool keep_frame = false; ///< a model: keep the file's coordinates (no base, no yaw)
   double yaw_deg = 0.0;    ///< turn about the stem (degrees), within +-kMaxPlantYawDeg
   Eigen::Vector3d base{1.0, 0.0, 0.8}; ///< plant base, world frame (Table 1 of the paper)
@@ -45,13 +48,15 @@ struct PlacedPlant {
   PlantSource source; ///< what it was made from
   Plant plant;        ///< mesh (or scan) and anatomy, posed in the world frame
   /// The plant's own ROIs, world frame: every kind for a generated plant (fruit only
-  /// when it has fruit); whole_plant (the bounding box) for a model.
+  /// when it has fruit); whole_plant (the bounding box) for a model, and fruit (one box
+  /// per connected group of fruit triangles, labelledPartRoi) when it has any.
   std::map<RoiKind, Roi> rois;
   /// The boxes of PlantSource::rois (the user's ROI file); empty otherwise.
   Roi model_rois;
   std::string description; ///< e.g. "seed 3, growth stage 0.333"
   /// What the user should hear about the source, one line each: a label rule that
-  /// labelled nothing, a scan's labels beyond ours. Empty for a generated plant.
+  /// labelled nothing, a scan's labels beyond ours, a Collada file without a unit, an ROI
+  /// box that misses the plant.
   std::vector<std::string> warnings;
 
   /// \brief The ROI of `kind`, or nullptr when the plant has none.
@@ -62,10 +67,24 @@ struct PlacedPlant {
 /// `yaw_deg` about its stem (a model: the centre of its bounding box's bottom face is the
 /// base, unless keep_frame).
 /// \throws InvalidArgumentError for a source with neither or both of seed and model,
-/// labels or keep_frame without a model, a non-finite base, a yaw outside
+/// labels, scale or keep_frame without a model, a negative or non-finite scale, a
+/// non-finite base, a yaw outside
 /// [-kMaxPlantYawDeg, kMaxPlantYawDeg]; the io and plant errors of the files and the
 /// generator.
 PlacedPlant makePlacedPlant(const PlantSource& source);
+
+/// \brief The neighbours of `target` in a greenhouse row (paper section 5.4): one on each
+/// side, `spacing_m` from its base, along the row, which runs across `facing_rad` (the
+/// azimuth from the plant towards the camera's side, CylindricalSector::facingAzimuth),
+/// at the base's height. A generated plant's neighbours are the next two seeds of the
+/// default set (seed + 1 and + 2, cyclically within 0-9; beyond it, seed + 1 and + 2),
+/// with its growth-stage rule and simplification; a model's are the same model. They are
+/// turned by the target's yaw plus 120 and 240 degrees, so that no leaf repeats.
+/// \throws InvalidArgumentError for a spacing that is not finite and > 0, a non-finite
+/// facing, or a target with keep_frame (a kept frame has no base to space from); as
+/// makePlacedPlant.
+std::vector<PlacedPlant> rowNeighbours(const PlantSource& target, double spacing_m,
+                                       double facing_rad);
 
 } // namespace scenario
 } // namespace plantnbv

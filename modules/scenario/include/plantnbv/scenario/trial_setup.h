@@ -92,6 +92,7 @@ struct TrialOverrides {
   std::optional<int> candidates;          ///< per step, a multiple of the grid cells
   std::optional<double> resolution_m;     ///< map resolution = rho, metres
   std::optional<double> sector_height_m;  ///< else fitSectorToPlant's rule
+  std::optional<double> sector_radius_m;  ///< else the config's (0.4 m)
   std::optional<std::uint64_t> seed;      ///< the trial's seed
   std::optional<int> threads;             ///< 0: OpenMP's default
   std::optional<double> depth_scale;      ///< TrialConfig::depth_scale
@@ -117,6 +118,13 @@ TrialConfig makeTrialConfig(const TrialOverrides& overrides, const PlacedPlant& 
 std::vector<std::string> trialWarnings(const PlacedPlant& placed,
                                        const TrialConfig& config, const Roi& attention,
                                        const std::vector<EvaluationLevel>& levels);
+
+/// \brief The neighbours of `placed` in a greenhouse row, `spacing_m` from it on each
+/// side across the direction the config's sector faces (rowNeighbours), for
+/// Trial::setNeighbours; none for a spacing of 0.
+/// \throws InvalidArgumentError as rowNeighbours (a negative spacing among them).
+NeighbourPlants rowNeighbourPlants(const PlacedPlant& placed, double spacing_m,
+                                   const TrialConfig& config);
 
 /// \brief Gives `trial` the plant, the attention ROI, the levels and, as its exploration
 /// region, the plant's whole-plant ROI.
