@@ -827,6 +827,31 @@ TEST_F(CliTest, ACampaignOfNoisyRoisReportsF1AgainstTheRoiError)
   ASSERT_EQ(run("campaign report " + path("run") + " -o " + path("report")).code, 0);
 }
 
+TEST_F(CliTest, ARowStudyRunsItsSpacingsAsVariantsAndDrawsThemApart)
+{
+  write("row.yaml", "name: row\nseed: 3\nplants: [{seed: 0}]\nyaws_deg: [0]\n"
+                    "views: 2\nlevels: [whole_plant]\ntrial:\n"
+                    "  camera: 160x120:114.25,114.25,79.5,59.5\n"
+                    "  gain: {rays_x: 32, rays_y: 24}\n"
+                    "studies:\n  - name: row\n    row_spacings: [0, 0.3]\n"
+                    "    planners: [{type: random}]\n");
+  const ToolRun r = run("campaign run " + path("row.yaml") + " -o " + path("run"));
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto trials = trialFiles(path("run"));
+  ASSERT_EQ(trials.size(), 2u);
+  const auto& alone = trials.at("row+random+alone+plant00+yaw000+rep0.json");
+  const auto& row = trials.at("row+random+row30cm+plant00+yaw000+rep0.json");
+  // The neighbours hide part of the plant from v0 (the same view in both).
+  EXPECT_LT(row["views"][0]["levels"]["whole_plant"]["recall"].get<double>(),
+            alone["views"][0]["levels"]["whole_plant"]["recall"].get<double>());
+  // One study of two variants: its figure compares them; there is no main study to
+  // draw planner against planner (its curves would join the variants into one line).
+  const ToolRun report = run("campaign report " + path("run") + " -o " + path("report"));
+  ASSERT_EQ(report.code, 0) << report.err;
+  EXPECT_TRUE(fs::exists(path("report/f1_row.png"))) << report.out;
+  EXPECT_FALSE(fs::exists(path("report/chamfer_row.png"))) << report.out;
+}
+
 TEST_F(CliTest, CampaignStatusGivesTheEtaFromTheDoneTrialsTimes)
 {
   // Half the trials (a chunk), then status: the other 6 at the done trials' mean time,

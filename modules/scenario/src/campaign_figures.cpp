@@ -283,19 +283,32 @@ std::vector<fs::path> writeCampaignFigures(const std::vector<CurveRow>& rows,
     addOnce(studies, r.study);
   if (studies.empty())
     return {};
-  const std::string main =
-      std::find(studies.begin(), studies.end(), "main") != studies.end()
-          ? "main"
-          : studies.front();
-  std::vector<std::string> planners, levels;
+  // The main study's curves join its trials view by view: a study of several variants
+  // (a row study alone in its campaign) would join them into one line, so it is drawn as
+  // a sensitivity study, with no main study when no study is without variants.
+  auto oneVariant = [&rows](const std::string& study) {
+    return std::none_of(rows.begin(), rows.end(), [&](const CurveRow& r) {
+      return r.study == study && !r.variant.empty();
+    });
+  };
+  std::string main;
+  if (std::find(studies.begin(), studies.end(), "main") != studies.end() &&
+      oneVariant("main"))
+    main = "main";
+  else if (const auto first = std::find_if(studies.begin(), studies.end(), oneVariant);
+           first != studies.end())
+    main = *first;
+  std::vector<std::string> planners, levels; // of the main study, or of all
   for (const CurveRow& r : rows)
-    if (r.study == main) {
+    if (r.study == main || main.empty()) {
       addOnce(planners, r.planner);
       addOnce(levels, r.level);
     }
 
   std::vector<fs::path> written;
   for (const Metric* m : {&kF1, &kChamfer}) {
+    if (main.empty())
+      break;
     viz::LineChartFigure figure;
     figure.setTitle(std::string(m->title) + " vs views, study '" + main +
                     "' (mean and 95% confidence interval" +
@@ -347,7 +360,8 @@ std::vector<fs::path> writeCampaignFigures(const std::vector<CurveRow>& rows,
     styleInOrder(variant_styles, {0}, {});
     viz::LineChartFigure figure;
     figure.setTitle("F1 score vs views, study '" + study +
-                    "' (mean and 95% confidence interval; dashed: study '" + main + "')");
+                    "' (mean and 95% confidence interval" +
+                    (main.empty() ? ")" : "; dashed: study '" + main + "')"));
     figure.setColumns(static_cast<int>(levels.size()));
     figure.setSize(1200, 80 + 330 * static_cast<int>(study_planners.size()));
     for (const std::string& planner : study_planners)

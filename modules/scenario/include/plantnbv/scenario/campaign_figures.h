@@ -12,14 +12,15 @@
 namespace plantnbv {
 namespace scenario {
 
-/// \brief Writes into `out_dir`, for the main study (the one with baselines, named
-/// "main", or else the first): f1_<study>.png and chamfer_<study>.png, one panel per
-/// level, one curve per planner; for each other study (the sensitivity studies):
+/// \brief Writes into `out_dir`, for the main study (named "main", or else the first
+/// study; either only if it has no variants): f1_<study>.png and chamfer_<study>.png, one
+/// panel per level, one curve per planner; for each other study (the sensitivity studies,
+/// e.g. a campaign's only study when it has variants, as data/campaigns/row.yaml):
 /// f1_<study>.png, a row of level panels per planner, one curve per variant (solid, each
 /// its colour and marker) beside the main study's curve of the same planner (black,
-/// dashed). Colours are Okabe and Ito's (viz::chartColor), and the
-/// paper's planners keep theirs in every figure and campaign: nbv-whole-plant blue with
-/// circles, nbv-main-stem vermillion with squares, nbv-leaf-nodes bluish green with
+/// dashed; none without a main study). Colours are Okabe and Ito's (viz::chartColor), and
+/// the paper's planners keep theirs in every figure and campaign: nbv-whole-plant blue
+/// with circles, nbv-main-stem vermillion with squares, nbv-leaf-nodes bluish green with
 /// diamonds (solid lines), predefined orange dashed with crosses, random sky blue
 /// dash-dotted with pluses, nbv-fruit reddish purple; other planners take, in order, the
 /// colours and markers left free (solid lines). The x axis counts views from 1 (v0
