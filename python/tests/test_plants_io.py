@@ -67,7 +67,9 @@ def test_scans_and_meshes_become_plants(placed, tmp_path):
     assert np.isfinite(sensor.capture(T_W_C=V0)["depth"]).any()
     pn.write_mesh(tmp_path / "p.ply", placed.plant.mesh)
     model = pn.place_plant(model=str(tmp_path / "p.ply"))
-    assert set(model.rois) == {"whole_plant"} and model.warnings == []
+    # A labelled model: its bounding box, and a box per connected group of fruit triangles.
+    assert set(model.rois) == {"whole_plant", "fruit"} and model.warnings == []
+    assert len(model.rois["fruit"].boxes) >= len(placed.rois["fruit"].boxes)
     with pytest.warns(UserWarning, match="label rule stem=no_such_node matches no triangle"):
         labelled = pn.place_plant(model=str(tmp_path / "p.ply"), labels="stem=no_such_node")
     assert len(labelled.warnings) == 1

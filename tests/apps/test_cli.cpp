@@ -1496,11 +1496,13 @@ TEST_F(CliTest, InputsThatWouldGiveMeaninglessResultsAreWarnedAbout)
       run("plant --model " + kFixtures +
           "/plant_cm_zup.dae --labels stem=no_such_node,leaflet=.* -o " + path("p"));
   ASSERT_EQ(r.code, 0) << r.err;
-  EXPECT_EQ(r.err, "plantnbv: warning: label rule stem=no_such_node matches no triangle "
-                   "of '" +
-                       kFixtures +
-                       "/plant_cm_zup.dae' (rules match node names, or the file's "
-                       "name where it has none; the first that matches wins)\n");
+  EXPECT_EQ(
+      r.err,
+      "plantnbv: warning: label rule stem=no_such_node matches no triangle "
+      "of '" +
+          kFixtures +
+          "/plant_cm_zup.dae' (rules match node, geometry and material names, or the "
+          "file's name where it has none; the first that matches wins)\n");
   // A voxel as large as the ROIs: one warning per level whose boxes it cannot resolve.
   r = run("reconstruct --plant 1 --views 1 --resolution 0.02 -o " + path("coarse"));
   ASSERT_EQ(r.code, 0) << r.err;

@@ -23,7 +23,7 @@ double distance(const Rgb& a, const Rgb& b)
 TEST(Palette, PartColoursAreDistinctAndAsDocumented)
 {
   std::vector<Rgb> parts;
-  for (unsigned i = 0; i <= 6; ++i)
+  for (unsigned i = 0; i <= unsigned(plantnbv::kLastPartLabel); ++i)
     parts.push_back(plantnbv::viz::partLabelColor(static_cast<PartLabel>(i)));
   for (std::size_t i = 0; i < parts.size(); ++i)
     for (std::size_t j = i + 1; j < parts.size(); ++j)
@@ -33,7 +33,7 @@ TEST(Palette, PartColoursAreDistinctAndAsDocumented)
   EXPECT_GT(leaflet.g, leaflet.b);
   const Rgb fruit = plantnbv::viz::partLabelColor(PartLabel::fruit);
   EXPECT_GT(fruit.r, fruit.g + 0.5f);
-  EXPECT_THROW(plantnbv::viz::partLabelColor(static_cast<PartLabel>(7)),
+  EXPECT_THROW(plantnbv::viz::partLabelColor(static_cast<PartLabel>(8)),
                plantnbv::InvalidArgumentError);
 
   // ROI colours stand apart from every part colour and from each other, and repeat.

@@ -24,7 +24,7 @@ Rgb partLabelColor(PartLabel label)
   case PartLabel::background:
     return {0.55f, 0.55f, 0.55f};
   case PartLabel::flower:
-    return {0.98f, 0.82f, 0.10f};
+    return {1.00f, 0.90f, 0.45f}; // pale yellow: the ROI palette has the saturated one
   }
   throw InvalidArgumentError("unknown part label value " +
                              std::to_string(static_cast<unsigned>(label)));
