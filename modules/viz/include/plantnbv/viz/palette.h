@@ -19,8 +19,7 @@ struct Rgb {
 
 /// \brief The colour plant parts of `label` are drawn in: stem brown, petiole
 /// yellow-green, leaflet green, peduncle light green, fruit red, flower pale yellow,
-/// background grey, unknown
-/// light grey. Shading darkens or lightens it in the image.
+/// background grey, unknown light grey. Shading darkens or lightens it in the image.
 /// \throws InvalidArgumentError for a value outside PartLabel.
 Rgb partLabelColor(PartLabel label);
 
