@@ -1,8 +1,10 @@
 #pragma once
 // Internal helpers shared by the io sources (not installed).
 
+#include <array>
 #include <cstdint>
 #include <istream>
+#include <map>
 #include <string>
 
 #include <Eigen/Core>
@@ -14,6 +16,27 @@
 namespace plantnbv {
 namespace io {
 namespace detail {
+
+/// The node ids of a mesh being read: one per distinct (node, geometry, material) name
+/// triple, appended to the mesh's node_names, geometry_names and material_names.
+class MeshNameIds {
+public:
+  /// The id of `names` in `mesh`, added on first sight.
+  std::uint32_t idOf(const std::array<std::string, 3>& names, TriangleMesh& mesh)
+  {
+    const auto [it, added] =
+        ids_.emplace(names, static_cast<std::uint32_t>(mesh.node_names.size()));
+    if (added) {
+      mesh.node_names.push_back(names[0]);
+      mesh.geometry_names.push_back(names[1]);
+      mesh.material_names.push_back(names[2]);
+    }
+    return it->second;
+  }
+
+private:
+  std::map<std::array<std::string, 3>, std::uint32_t> ids_;
+};
 
 /// Throws FormatError naming the path and the cap if the file is larger than
 /// limits.max_file_bytes (checked before the file is read).

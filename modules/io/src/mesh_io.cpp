@@ -457,7 +457,7 @@ public:
       if (!(m.mPrimitiveTypes & (aiPrimitiveType_TRIANGLE | aiPrimitiveType_POLYGON)))
         continue; // points and lines only
       const std::uint32_t id =
-          nodeId({nameOf(node, m), m.mName.C_Str(), materialName(m)}, out);
+          ids_.idOf({nameOf(node, m), m.mName.C_Str(), materialName(m)}, out);
       const auto base = static_cast<std::uint32_t>(out.vertices.size());
       for (unsigned v = 0; v < m.mNumVertices; ++v) {
         const aiVector3D& p = m.mVertices[v];
@@ -489,22 +489,8 @@ private:
     return name.C_Str();
   }
 
-  /// One id per (node, geometry, material) name triple.
-  std::uint32_t nodeId(const std::array<std::string, 3>& names, TriangleMesh& out)
-  {
-    const auto it = ids_.find(names);
-    if (it != ids_.end())
-      return it->second;
-    const auto id = static_cast<std::uint32_t>(out.node_names.size());
-    out.node_names.push_back(names[0]);
-    out.geometry_names.push_back(names[1]);
-    out.material_names.push_back(names[2]);
-    ids_.emplace(names, id);
-    return id;
-  }
-
   const aiScene& scene_;
-  std::map<std::array<std::string, 3>, std::uint32_t> ids_;
+  detail::MeshNameIds ids_;
 };
 
 /// OBJ, STL and Collada through Assimp, in file axes; for Collada in file units too.

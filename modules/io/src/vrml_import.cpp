@@ -581,20 +581,6 @@ private:
     return a.def;
   }
 
-  /// One id per (node, geometry, material) name triple.
-  std::uint32_t nodeId(const std::array<std::string, 3>& names)
-  {
-    const auto it = ids_.find(names);
-    if (it != ids_.end())
-      return it->second;
-    const auto id = static_cast<std::uint32_t>(mesh_.node_names.size());
-    mesh_.node_names.push_back(names[0]);
-    mesh_.geometry_names.push_back(names[1]);
-    mesh_.material_names.push_back(names[2]);
-    ids_.emplace(names, id);
-    return id;
-  }
-
   void addTriangle(std::uint32_t a, std::uint32_t b, std::uint32_t c, std::uint32_t node)
   {
     const std::uint64_t max = limits_.max_triangles;
@@ -626,7 +612,7 @@ private:
                                   : !name.empty()
                                       ? name
                                       : "shape_" + std::to_string(shapes_ - 1);
-    const std::uint32_t id = nodeId({node_name, g.def, material});
+    const std::uint32_t id = ids_.idOf({node_name, g.def, material}, mesh_);
     // A mirroring transform turns the faces inside out; swapping two corners undoes it.
     flip_ = M.linear().determinant() < 0.0;
     if (g.type == "IndexedFaceSet")
@@ -780,7 +766,7 @@ private:
   std::uint64_t ear_clipping_steps_left_ = detail::kEarClippingStepsPerFile;
   std::uint64_t instances_ = 0;
   TriangleMesh mesh_;
-  std::map<std::array<std::string, 3>, std::uint32_t> ids_;
+  detail::MeshNameIds ids_;
   std::set<std::string> skipped_;
   std::size_t shapes_ = 0;
   bool flip_ = false;

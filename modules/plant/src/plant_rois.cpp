@@ -113,11 +113,11 @@ Roi labelledPartRoi(const Plant& plant, PartLabel label)
       i = parent[i] = parent[parent[i]];
     return i;
   };
-  std::vector<std::size_t> part_triangles;
+  // The part's triangles, each with the position id of its first corner.
+  std::vector<std::pair<std::size_t, std::size_t>> part_triangles;
   for (std::size_t t = 0; t < mesh.labels.size(); ++t) {
     if (mesh.labels[t] != label)
       continue;
-    part_triangles.push_back(t);
     std::size_t first = 0;
     for (int c = 0; c < 3; ++c) {
       const Eigen::Vector3f& v = mesh.vertices[mesh.triangles[t][c]];
@@ -125,19 +125,20 @@ Roi labelledPartRoi(const Plant& plant, PartLabel label)
           position_id.emplace(std::array<float, 3>{v.x(), v.y(), v.z()}, parent.size());
       if (added)
         parent.push_back(it->second);
-      if (c == 0)
+      if (c == 0) {
+        part_triangles.emplace_back(t, it->second);
         first = find(it->second);
-      else
+      } else {
         parent[find(it->second)] = first;
+      }
     }
   }
   // Per group (by its root): the lowest and highest corner.
   std::map<std::size_t, std::pair<Eigen::Vector3d, Eigen::Vector3d>> groups;
-  for (std::size_t t : part_triangles) {
-    const Eigen::Vector3f& v0 = mesh.vertices[mesh.triangles[t][0]];
-    const std::size_t root = find(position_id.at({v0.x(), v0.y(), v0.z()}));
-    auto [it, added] = groups.try_emplace(root, Eigen::Vector3d::Constant(INFINITY),
-                                          Eigen::Vector3d::Constant(-INFINITY));
+  for (const auto& [t, corner] : part_triangles) {
+    auto [it, added] =
+        groups.try_emplace(find(corner), Eigen::Vector3d::Constant(INFINITY),
+                           Eigen::Vector3d::Constant(-INFINITY));
     for (auto i : mesh.triangles[t]) {
       it->second.first = it->second.first.cwiseMin(mesh.vertices[i].cast<double>());
       it->second.second = it->second.second.cwiseMax(mesh.vertices[i].cast<double>());
