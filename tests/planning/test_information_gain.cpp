@@ -346,6 +346,83 @@ TEST(InformationGain, EqualsTheReferenceOnAPlantMapAtAnyThreadCount)
   }
 }
 
+TEST(InformationGain, UpdateGivesTheSameSnapshotAndGainsAtAnyThreadCount)
+{
+  // update() walks the tree and fills the snapshot on setNumberOfThreads() threads: the
+  // snapshot's sizes and every gain and voxel count are bit for bit those of one thread,
+  // with an ROI and without, for a snapshot of the ROI and the occupied voxels and for
+  // one of every known voxel (visibility weighting), on the plant map, on a map of one
+  // line of voxels (fewer subtrees than threads) and on an empty map.
+  const Plant& plant = test::plantWorld().plant;
+  CylindricalSectorSampler sampler;
+  sampler.setSamplesPerCell(1);
+  Rng rng(5);
+  std::vector<Viewpoint> views;
+  sampler.sample(rng, views);
+  views.push_back(test::paperV0());
+  views.push_back(
+      lookingAlong(Eigen::Vector3d(centre(kLineK0 - 50), kLineY, kLineZ), 0.0));
+  const std::pair<const char*, std::shared_ptr<const OccupancyMap>> maps[] = {
+      {"plant", test::plantMap()},
+      {"line", lineWithAHitAt5()},
+      {"empty", std::make_shared<OccupancyMap>()},
+  };
+  GainConfig paper = GainConfig::paper();
+  paper.rays_x = 16;
+  paper.rays_y = 12;
+  GainConfig unknown_only = paper; // the defaults' gain
+  unknown_only.unknown_only = true;
+  unknown_only.unknown_depth = 3;
+  GainConfig weighted = paper;
+  weighted.visibility_weighted = true;
+  const std::pair<const char*, GainConfig> configs[] = {
+      {"paper", paper}, {"unknown_only", unknown_only}, {"weighted", weighted}};
+  const std::pair<const char*, Roi> rois[] = {
+      {"whole_plant", wholePlantRoi(plant)},
+      {"leaf_nodes", leafNodeRoi(plant)},
+      {"no_roi", Roi()},
+  };
+  for (const auto& [map_name, map] : maps)
+    for (const auto& [config_name, config] : configs)
+      for (const auto& [roi_name, roi] : rois) {
+        std::vector<ViewGain> one;
+        InformationGain::Stats one_stats;
+        for (int threads : {1, 2, 3}) {
+          const std::string what = std::string(map_name) + ", " + config_name + ", " +
+                                   roi_name + ", " + std::to_string(threads) + " threads";
+          InformationGain gain;
+          gain.setConfig(config);
+          gain.setInputMap(map);
+          gain.setRoi(roi);
+          gain.setNumberOfThreads(threads);
+          gain.update();
+          const InformationGain::Stats stats = gain.getLastStats();
+          std::vector<ViewGain> out;
+          gain.compute(views, out);
+          if (threads == 1) {
+            one = out;
+            one_stats = stats;
+            continue;
+          }
+          EXPECT_EQ(stats.bricks, one_stats.bricks) << what;
+          EXPECT_EQ(stats.values, one_stats.values) << what;
+          EXPECT_EQ(stats.leaves, one_stats.leaves) << what;
+          ASSERT_EQ(out.size(), one.size()) << what;
+          for (std::size_t i = 0; i < out.size(); ++i) {
+            EXPECT_EQ(out[i].gain, one[i].gain) << what << " candidate " << i;
+            EXPECT_EQ(out[i].voxels_seen, one[i].voxels_seen)
+                << what << " candidate " << i;
+            EXPECT_EQ(out[i].unknown_seen, one[i].unknown_seen)
+                << what << " candidate " << i;
+            EXPECT_EQ(out[i].rays_cast, one[i].rays_cast) << what << " candidate " << i;
+          }
+        }
+        if (std::string(map_name) != "empty") {
+          EXPECT_GT(one_stats.leaves, 0u) << map_name << ", " << config_name;
+        }
+      }
+}
+
 TEST(InformationGain, EqualsTheReferenceAtTheDefaultRayGrid)
 {
   const auto map = test::plantMap();

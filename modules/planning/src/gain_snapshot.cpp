@@ -3,7 +3,9 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <omp.h>
 #include <sstream>
+#include <type_traits>
 
 #include <octomap/OcTree.h>
 
@@ -12,6 +14,56 @@
 
 namespace plantnbv {
 namespace gain_detail {
+
+namespace {
+
+/// Snapshot::split(): at least this many tasks where the tree has them, so that
+/// threads share the walk evenly (subtrees differ in size by orders of magnitude).
+constexpr std::size_t kMinTasks = 256;
+/// The deepest root of a task: a node at this depth is one brick.
+constexpr int kMaxTaskDepth = VoxelLattice::kTreeDepth - kBrickShift;
+
+/// fill() on one thread: makes bricks in `voxels`.
+template <typename CodeT>
+struct SharedBrickWriter {
+  Bricks<CodeT>& bricks;
+
+  CodeT* materialize(std::size_t s) { return bricks.materialize(s); }
+};
+
+/// fill() on several threads: makes bricks in the thread's own buffer; the bricks made
+/// before (at the ROI's border) stay in `voxels`.
+template <typename CodeT>
+struct OwnBrickWriter {
+  Bricks<CodeT>& bricks;
+  std::vector<CodeT>& own;
+  std::vector<std::size_t>& slots; ///< each new brick's slot
+
+  /// Bricks::materialize() into `own`.
+  CodeT* materialize(std::size_t s)
+  {
+    std::uint32_t& e = bricks.table[s];
+    if (e & kUniform) {
+      const CodeT c = static_cast<CodeT>(e & ~kUniform);
+      const auto index = static_cast<std::uint32_t>(own.size() >> (3 * kBrickShift));
+      own.resize(own.size() + kBrickVoxels, c);
+      slots.push_back(s);
+      e = kThreadLocal | index;
+    }
+    if (e & kThreadLocal)
+      return &own[static_cast<std::size_t>(e & ~kThreadLocal) << (3 * kBrickShift)];
+    return &bricks.voxels[static_cast<std::size_t>(e) << (3 * kBrickShift)];
+  }
+};
+
+std::uint32_t floatBits(float f)
+{
+  std::uint32_t bits;
+  std::memcpy(&bits, &f, sizeof bits);
+  return bits;
+}
+
+} // namespace
 
 void KeyBox::extend(const KeyBox& b)
 {
@@ -95,72 +147,206 @@ template struct Bricks<std::uint8_t>;
 template struct Bricks<std::uint16_t>;
 template struct Bricks<std::uint32_t>;
 
-std::uint32_t Snapshot::valueIndex(float log_odds)
+void Snapshot::Part::reset()
 {
-  std::uint32_t bits;
-  std::memcpy(&bits, &log_odds, sizeof bits);
-  const std::uint32_t key = bits + 1u; // 0 marks an empty slot (NaN bits never occur)
-  if (key == last_key_)                // neighbouring leaves often share their value
-    return last_value_;
-  last_key_ = key;
-  std::size_t mask = hash_keys_.size() - 1;
+  leaves.clear();
+  distinct.clear();
+  hash_keys.assign(64, 0);
+  hash_values.assign(64, 0);
+  last_key = 0;
+  last_value = 0;
+  for (int a = 0; a < 3; ++a) {
+    lo[a] = kKeyLimit;
+    hi[a] = -1;
+  }
+}
+
+std::uint32_t Snapshot::Part::valueIndex(float log_odds)
+{
+  const std::uint32_t key = floatBits(log_odds) + 1u; // 0 marks an empty slot (NaN
+                                                      // bits never occur)
+  if (key == last_key) // neighbouring leaves often share their value
+    return last_value;
+  last_key = key;
+  std::size_t mask = hash_keys.size() - 1;
   std::size_t i = (key * 0x9e3779b1u) & mask;
-  while (hash_keys_[i] != 0) {
-    if (hash_keys_[i] == key)
-      return last_value_ = hash_values_[i];
+  while (hash_keys[i] != 0) {
+    if (hash_keys[i] == key)
+      return last_value = hash_values[i];
     i = (i + 1) & mask;
   }
-  const auto index = static_cast<std::uint32_t>(distinct_.size());
-  last_value_ = index;
-  distinct_.push_back(log_odds);
-  hash_keys_[i] = key;
-  hash_values_[i] = index;
-  if (2 * distinct_.size() > hash_keys_.size()) { // keep it at most half full
-    std::vector<std::uint32_t> keys(2 * hash_keys_.size(), 0),
-        values(2 * hash_keys_.size());
+  const auto index = static_cast<std::uint32_t>(distinct.size());
+  last_value = index;
+  distinct.push_back(log_odds);
+  hash_keys[i] = key;
+  hash_values[i] = index;
+  if (2 * distinct.size() > hash_keys.size()) { // keep it at most half full
+    std::vector<std::uint32_t> keys(2 * hash_keys.size(), 0),
+        values(2 * hash_keys.size());
     mask = keys.size() - 1;
-    for (std::size_t j = 0; j < hash_keys_.size(); ++j) {
-      if (!hash_keys_[j])
+    for (std::size_t j = 0; j < hash_keys.size(); ++j) {
+      if (!hash_keys[j])
         continue;
-      std::size_t p = (hash_keys_[j] * 0x9e3779b1u) & mask;
+      std::size_t p = (hash_keys[j] * 0x9e3779b1u) & mask;
       while (keys[p])
         p = (p + 1) & mask;
-      keys[p] = hash_keys_[j];
-      values[p] = hash_values_[j];
+      keys[p] = hash_keys[j];
+      values[p] = hash_values[j];
     }
-    hash_keys_.swap(keys);
-    hash_values_.swap(values);
+    hash_keys.swap(keys);
+    hash_values.swap(values);
   }
   return index;
 }
 
-void Snapshot::collect(const octomap::OcTreeNode* node, int depth, const int k[3])
+bool Snapshot::matters(const octomap::OcTreeNode* node, int depth, const int k[3]) const
 {
-  const int size = 1 << (VoxelLattice::kTreeDepth - depth);
-  const bool near_roi = roi_mode && roi_bbox.overlapsCube(k, size);
-  const float log_odds = node->getLogOdds();
-  if (!tree->nodeHasChildren(node)) {
-    if (full || near_roi || log_odds > threshold_)
-      leaves_.push_back(
-          {{k[0], k[1], k[2]}, VoxelLattice::kTreeDepth - depth, valueIndex(log_odds)});
-    return;
-  }
   // Inner nodes hold the maximum of their children (OccupancyMap keeps them so): away
   // from the ROI only subtrees with an occupied voxel matter.
-  if (!full && !near_roi && !(log_odds > threshold_))
+  return full ||
+         (roi_mode &&
+          roi_bbox.overlapsCube(k, 1 << (VoxelLattice::kTreeDepth - depth))) ||
+         node->getLogOdds() > threshold_;
+}
+
+void Snapshot::collect(Part& part, const octomap::OcTreeNode* node, int depth,
+                       const int k[3]) const
+{
+  if (!matters(node, depth, k))
     return;
-  const int half = size >> 1;
+  const int shift = VoxelLattice::kTreeDepth - depth;
+  if (!tree->nodeHasChildren(node)) {
+    const float log_odds = node->getLogOdds();
+    part.leaves.push_back({{k[0], k[1], k[2]}, shift, part.valueIndex(log_odds)});
+    // The keys the snapshot needs for it: its cube, within the ROI's keys unless it
+    // is occupied or every voxel is needed.
+    const bool clip = !full && !(log_odds > threshold_);
+    for (int a = 0; a < 3; ++a) {
+      int l = k[a], h = k[a] + (1 << shift) - 1;
+      if (clip) {
+        l = std::max(l, roi_bbox.lo[a]);
+        h = std::min(h, roi_bbox.hi[a]);
+      }
+      part.lo[a] = std::min(part.lo[a], l);
+      part.hi[a] = std::max(part.hi[a], h);
+    }
+    return;
+  }
+  const int half = 1 << (shift - 1);
   for (unsigned i = 0; i < 8; ++i) {
     if (!tree->nodeChildExists(node, i))
       continue;
     const int c[3] = {k[0] + ((i & 1u) ? half : 0), k[1] + ((i & 2u) ? half : 0),
                       k[2] + ((i & 4u) ? half : 0)};
-    collect(tree->getNodeChild(node, i), depth + 1, c);
+    collect(part, tree->getNodeChild(node, i), depth + 1, c);
+  }
+}
+
+void Snapshot::split(const octomap::OcTreeNode* root)
+{
+  tasks_.clear();
+  if (!root)
+    return;
+  Task top;
+  top.node = root;
+  top.depth = 0;
+  top.k[0] = top.k[1] = top.k[2] = 0;
+  tasks_.push_back(top);
+  // Level by level, each inner node that matters in place of its children: the list
+  // stays in the order of the depth-first walk.
+  for (int depth = 0; depth < kMaxTaskDepth && tasks_.size() < kMinTasks; ++depth) {
+    next_tasks_.clear();
+    for (const Task& t : tasks_) {
+      if (t.depth != depth || !tree->nodeHasChildren(t.node)) {
+        next_tasks_.push_back(t);
+        continue;
+      }
+      if (!matters(t.node, depth, t.k))
+        continue; // collect() would leave it at once
+      const int half = 1 << (VoxelLattice::kTreeDepth - depth - 1);
+      for (unsigned i = 0; i < 8; ++i) {
+        if (!tree->nodeChildExists(t.node, i))
+          continue;
+        Task c;
+        c.node = tree->getNodeChild(t.node, i);
+        c.depth = depth + 1;
+        c.k[0] = t.k[0] + ((i & 1u) ? half : 0);
+        c.k[1] = t.k[1] + ((i & 2u) ? half : 0);
+        c.k[2] = t.k[2] + ((i & 4u) ? half : 0);
+        next_tasks_.push_back(c);
+      }
+    }
+    tasks_.swap(next_tasks_);
+  }
+}
+
+template <typename Writer>
+void Snapshot::fillTask(const Task& task, const KeyBox& region, Writer& writer) const
+{
+  auto& bricks = writer.bricks;
+  using CodeT = typename std::remove_reference_t<decltype(bricks.voxels)>::value_type;
+  const Part& part = parts_[static_cast<std::size_t>(task.part)];
+  // Local pointers: stores of codes may alias any member.
+  const std::uint32_t* remap = part.remap.data();
+  const Value* value_of = values.data();
+  const Leaf* end = part.leaves.data() + task.leaf_end;
+  for (const Leaf* l = part.leaves.data() + task.leaf_begin; l != end; ++l) {
+    const Leaf leaf = *l; // a copy: not reloaded after each store
+    const std::uint32_t value = remap[leaf.value];
+    const std::uint32_t base =
+        (value << kValueShift) | (value_of[value].occupied ? kOccupied : 0u);
+    if (leaf.shift == 0) { // a single voxel: most leaves
+      std::size_t s;
+      if (!bricks.slotOf(leaf.k[0], leaf.k[1], leaf.k[2], s))
+        continue;
+      const std::uint32_t e = bricks.table[s];
+      if (e == (kUniform | base) || e == (kUniform | base | kInRoi))
+        continue; // the brick already has this value
+      CodeT& c = writer.materialize(s)[brickLocal(leaf.k[0], leaf.k[1], leaf.k[2])];
+      c = static_cast<CodeT>(base | (c & kInRoi));
+      continue;
+    }
+    const int size = 1 << leaf.shift;
+    int lo[3], hi[3];
+    bool empty = false;
+    for (int a = 0; a < 3; ++a) {
+      lo[a] = std::max(leaf.k[a], region.lo[a]);
+      hi[a] = std::min(leaf.k[a] + size - 1, region.hi[a]);
+      empty = empty || lo[a] > hi[a];
+    }
+    if (empty)
+      continue;
+    for (int bz = lo[2] >> kBrickShift; bz <= hi[2] >> kBrickShift; ++bz)
+      for (int by = lo[1] >> kBrickShift; by <= hi[1] >> kBrickShift; ++by)
+        for (int bx = lo[0] >> kBrickShift; bx <= hi[0] >> kBrickShift; ++bx) {
+          const std::size_t s =
+              bricks.slot(bx - bricks.b0[0], by - bricks.b0[1], bz - bricks.b0[2]);
+          const int k0[3] = {bx << kBrickShift, by << kBrickShift, bz << kBrickShift};
+          int v_lo[3], v_hi[3];
+          bool whole = true;
+          for (int a = 0; a < 3; ++a) {
+            v_lo[a] = std::max(lo[a], k0[a]) - k0[a];
+            v_hi[a] = std::min(hi[a], k0[a] + kBrickMask) - k0[a];
+            whole = whole && v_lo[a] == 0 && v_hi[a] == kBrickMask;
+          }
+          std::uint32_t& e = bricks.table[s];
+          if (whole && (e & kUniform)) {
+            e = kUniform | base | (e & kInRoi);
+            continue;
+          }
+          CodeT* v = writer.materialize(s);
+          for (int z = v_lo[2]; z <= v_hi[2]; ++z)
+            for (int y = v_lo[1]; y <= v_hi[1]; ++y)
+              for (int x = v_lo[0]; x <= v_hi[0]; ++x) {
+                CodeT& c = v[(z << (2 * kBrickShift)) | (y << kBrickShift) | x];
+                c = static_cast<CodeT>(base | (c & kInRoi));
+              }
+        }
   }
 }
 
 template <typename CodeT>
-void Snapshot::fill(Bricks<CodeT>& bricks, const KeyBox& region)
+void Snapshot::fill(Bricks<CodeT>& bricks, const KeyBox& region, int threads)
 {
   bricks.clear();
   std::size_t n = 1;
@@ -204,78 +390,83 @@ void Snapshot::fill(Bricks<CodeT>& bricks, const KeyBox& region)
           if (inside) {
             bricks.table[s] = kUniform | kInRoi;
           } else if (touches) {
-            CodeT* v = bricks.materialize(s);
-            for (int local = 0; local < kBrickVoxels; ++local) {
-              const int kx = k[0] + (local & kBrickMask);
-              const int ky = k[1] + ((local >> kBrickShift) & kBrickMask);
-              const int kz = k[2] + (local >> (2 * kBrickShift));
-              bool in = false;
-              for (const KeyBox& b : roi_boxes)
-                in = in || b.contains(kx, ky, kz);
-              v[local] = static_cast<CodeT>(in ? kInRoi : 0u);
+            CodeT* v = bricks.materialize(s); // all 0 (`outside`), then each box's part
+            for (const KeyBox& b : roi_boxes) {
+              if (b.empty() || !b.overlapsCube(k, 1 << kBrickShift))
+                continue;
+              int v_lo[3], v_hi[3];
+              for (int a = 0; a < 3; ++a) {
+                v_lo[a] = std::max(b.lo[a], k[a]) - k[a];
+                v_hi[a] = std::min(b.hi[a], k[a] + kBrickMask) - k[a];
+              }
+              for (int z = v_lo[2]; z <= v_hi[2]; ++z)
+                for (int y = v_lo[1]; y <= v_hi[1]; ++y)
+                  for (int x = v_lo[0]; x <= v_hi[0]; ++x)
+                    v[(z << (2 * kBrickShift)) | (y << kBrickShift) | x] = kInRoi;
             }
           }
         }
   }
 
-  for (const Leaf& leaf : leaves_) {
-    const std::uint32_t value = remap_[leaf.value];
-    const std::uint32_t base =
-        (value << kValueShift) | (values[value].occupied ? kOccupied : 0u);
-    if (leaf.shift == 0) { // a single voxel: most leaves
-      std::size_t s;
-      if (!bricks.slotOf(leaf.k[0], leaf.k[1], leaf.k[2], s))
-        continue;
-      const std::uint32_t e = bricks.table[s];
-      if (e == (kUniform | base) || e == (kUniform | base | kInRoi))
-        continue; // the brick already has this value
-      CodeT& c = bricks.materialize(s)[brickLocal(leaf.k[0], leaf.k[1], leaf.k[2])];
-      c = static_cast<CodeT>(base | (c & kInRoi));
-      continue;
+  // The leaves, task by task: a task's leaves lie in its cube, which holds whole bricks,
+  // so tasks write disjoint slots and bricks.
+  if (threads == 1) {
+    SharedBrickWriter<CodeT> writer{bricks};
+    for (const Task& task : tasks_)
+      fillTask(task, region, writer);
+  } else {
+    if (bricks.thread_voxels.size() < static_cast<std::size_t>(threads))
+      bricks.thread_voxels.resize(static_cast<std::size_t>(threads));
+    for (int t = 0; t < threads; ++t) {
+      bricks.thread_voxels[static_cast<std::size_t>(t)].clear();
+      parts_[static_cast<std::size_t>(t)].brick_slots.clear();
     }
-    const int size = 1 << leaf.shift;
-    int lo[3], hi[3];
-    bool empty = false;
-    for (int a = 0; a < 3; ++a) {
-      lo[a] = std::max(leaf.k[a], region.lo[a]);
-      hi[a] = std::min(leaf.k[a] + size - 1, region.hi[a]);
-      empty = empty || lo[a] > hi[a];
+    const auto n_tasks = static_cast<std::int64_t>(tasks_.size());
+#pragma omp parallel num_threads(threads)
+    {
+      const int t = omp_get_thread_num();
+      std::vector<CodeT>& own = bricks.thread_voxels[static_cast<std::size_t>(t)];
+      std::vector<std::size_t>& slots = parts_[static_cast<std::size_t>(t)].brick_slots;
+      OwnBrickWriter<CodeT> writer{bricks, own, slots};
+#pragma omp for schedule(dynamic, 1)
+      for (std::int64_t i = 0; i < n_tasks; ++i) {
+        Task& task = tasks_[static_cast<std::size_t>(i)];
+        task.fill_part = t;
+        task.brick_begin = slots.size();
+        fillTask(task, region, writer);
+        task.brick_end = slots.size();
+      }
     }
-    if (empty)
-      continue;
-    for (int bz = lo[2] >> kBrickShift; bz <= hi[2] >> kBrickShift; ++bz)
-      for (int by = lo[1] >> kBrickShift; by <= hi[1] >> kBrickShift; ++by)
-        for (int bx = lo[0] >> kBrickShift; bx <= hi[0] >> kBrickShift; ++bx) {
-          const std::size_t s =
-              bricks.slot(bx - bricks.b0[0], by - bricks.b0[1], bz - bricks.b0[2]);
-          const int k0[3] = {bx << kBrickShift, by << kBrickShift, bz << kBrickShift};
-          int v_lo[3], v_hi[3];
-          bool whole = true;
-          for (int a = 0; a < 3; ++a) {
-            v_lo[a] = std::max(lo[a], k0[a]) - k0[a];
-            v_hi[a] = std::min(hi[a], k0[a] + kBrickMask) - k0[a];
-            whole = whole && v_lo[a] == 0 && v_hi[a] == kBrickMask;
-          }
-          std::uint32_t& e = bricks.table[s];
-          if (whole && (e & kUniform)) {
-            e = kUniform | base | (e & kInRoi);
-            continue;
-          }
-          CodeT* v = bricks.materialize(s);
-          for (int z = v_lo[2]; z <= v_hi[2]; ++z)
-            for (int y = v_lo[1]; y <= v_hi[1]; ++y)
-              for (int x = v_lo[0]; x <= v_hi[0]; ++x) {
-                CodeT& c = v[(z << (2 * kBrickShift)) | (y << kBrickShift) | x];
-                c = static_cast<CodeT>(base | (c & kInRoi));
-              }
-        }
+    // Into `voxels` in task order: where one thread would have put them.
+    std::size_t next = bricks.voxels.size() >> (3 * kBrickShift);
+    for (Task& task : tasks_) {
+      task.brick_index = next;
+      next += task.brick_end - task.brick_begin;
+    }
+    bricks.voxels.resize(next << (3 * kBrickShift));
+#pragma omp parallel for num_threads(threads) schedule(dynamic, 16)
+    for (std::int64_t i = 0; i < n_tasks; ++i) {
+      const Task& task = tasks_[static_cast<std::size_t>(i)];
+      const auto f = static_cast<std::size_t>(task.fill_part);
+      const std::vector<CodeT>& own = bricks.thread_voxels[f];
+      const std::vector<std::size_t>& slots = parts_[f].brick_slots;
+      std::copy(own.begin() +
+                    static_cast<std::ptrdiff_t>(task.brick_begin << (3 * kBrickShift)),
+                own.begin() +
+                    static_cast<std::ptrdiff_t>(task.brick_end << (3 * kBrickShift)),
+                bricks.voxels.begin() +
+                    static_cast<std::ptrdiff_t>(task.brick_index << (3 * kBrickShift)));
+      for (std::size_t j = task.brick_begin; j < task.brick_end; ++j)
+        bricks.table[slots[j]] =
+            static_cast<std::uint32_t>(task.brick_index + (j - task.brick_begin));
+    }
   }
   brick_count = bricks.voxels.size() >> (3 * kBrickShift);
   bricks.shareUniformBricks();
 }
 
 void Snapshot::build(const octomap::OcTree& octree, const Roi& roi, bool full_map,
-                     bool unknown_only)
+                     bool unknown_only, int threads)
 {
   built = false;
   tree = &octree;
@@ -298,26 +489,50 @@ void Snapshot::build(const octomap::OcTree& octree, const Roi& roi, bool full_ma
     clip_boxes.push_back(c);
   }
 
-  leaves_.clear();
-  distinct_.clear();
-  last_key_ = 0;
-  hash_keys_.assign(64, 0);
-  hash_values_.assign(64, 0);
-  if (const octomap::OcTreeNode* root = tree->getRoot()) {
-    const int k[3] = {0, 0, 0};
-    collect(root, 0, k);
+  // The walk: subtrees in parallel, each thread with its own leaves and values.
+  threads = std::max(1, threads);
+  if (parts_.size() < static_cast<std::size_t>(threads))
+    parts_.resize(static_cast<std::size_t>(threads));
+  for (int t = 0; t < threads; ++t) // OpenMP may start fewer
+    parts_[static_cast<std::size_t>(t)].reset();
+  split(tree->getRoot());
+  const auto n_tasks = static_cast<std::int64_t>(tasks_.size());
+#pragma omp parallel num_threads(threads)
+  {
+    const int t = omp_get_thread_num();
+    Part& part = parts_[static_cast<std::size_t>(t)];
+#pragma omp for schedule(dynamic, 1)
+    for (std::int64_t i = 0; i < n_tasks; ++i) {
+      Task& task = tasks_[static_cast<std::size_t>(i)];
+      task.part = t;
+      task.leaf_begin = part.leaves.size();
+      collect(part, task.node, task.depth, task.k);
+      task.leaf_end = part.leaves.size();
+    }
   }
-  leaf_count = leaves_.size();
 
-  // Value indices in increasing log-odds (deterministic); 0 is unknown.
-  std::vector<float> sorted(distinct_);
-  std::sort(sorted.begin(), sorted.end());
+  // Value indices in increasing log-odds (deterministic); 0 is unknown. Equal values
+  // (-0 and 0) are ordered by their bits, so which is kept does not depend on the
+  // thread that found it.
+  std::vector<float> sorted;
+  leaf_count = 0;
+  for (int t = 0; t < threads; ++t) {
+    const Part& part = parts_[static_cast<std::size_t>(t)];
+    sorted.insert(sorted.end(), part.distinct.begin(), part.distinct.end());
+    leaf_count += part.leaves.size();
+  }
+  std::sort(sorted.begin(), sorted.end(), [](float a, float b) {
+    return a < b || (a == b && floatBits(a) < floatBits(b));
+  });
   sorted.erase(std::unique(sorted.begin(), sorted.end()), sorted.end());
-  remap_.resize(distinct_.size());
-  for (std::size_t i = 0; i < distinct_.size(); ++i)
-    remap_[i] = static_cast<std::uint32_t>(
-        std::lower_bound(sorted.begin(), sorted.end(), distinct_[i]) - sorted.begin() +
-        1);
+  for (int t = 0; t < threads; ++t) {
+    Part& part = parts_[static_cast<std::size_t>(t)];
+    part.remap.resize(part.distinct.size());
+    for (std::size_t i = 0; i < part.distinct.size(); ++i)
+      part.remap[i] = static_cast<std::uint32_t>(
+          std::lower_bound(sorted.begin(), sorted.end(), part.distinct[i]) -
+          sorted.begin() + 1);
+  }
   values.assign(sorted.size() + 1, Value());
   values[0].entropy = occupancyEntropy(0.5);
   for (std::size_t i = 0; i < sorted.size(); ++i) {
@@ -330,30 +545,18 @@ void Snapshot::build(const octomap::OcTree& octree, const Roi& roi, bool full_ma
   }
 
   // The region: the ROI's keys, every stored occupied leaf, and the other stored leaves
-  // where they matter (within the ROI's keys unless every voxel is needed).
-  int lo[3] = {kKeyLimit, kKeyLimit, kKeyLimit}, hi[3] = {-1, -1, -1};
-  if (!roi_bbox.empty())
+  // where they matter (within the ROI's keys unless every voxel is needed; collect()).
+  KeyBox region = roi_bbox;
+  if (region.empty())
     for (int a = 0; a < 3; ++a) {
-      lo[a] = roi_bbox.lo[a];
-      hi[a] = roi_bbox.hi[a];
+      region.lo[a] = kKeyLimit;
+      region.hi[a] = -1;
     }
-  for (const Leaf& leaf : leaves_) {
-    const bool clip = !full && !values[remap_[leaf.value]].occupied;
+  for (int t = 0; t < threads; ++t)
     for (int a = 0; a < 3; ++a) {
-      int l = leaf.k[a], h = leaf.k[a] + (1 << leaf.shift) - 1;
-      if (clip) {
-        l = std::max(l, roi_bbox.lo[a]);
-        h = std::min(h, roi_bbox.hi[a]);
-      }
-      lo[a] = std::min(lo[a], l);
-      hi[a] = std::max(hi[a], h);
+      region.lo[a] = std::min(region.lo[a], parts_[static_cast<std::size_t>(t)].lo[a]);
+      region.hi[a] = std::max(region.hi[a], parts_[static_cast<std::size_t>(t)].hi[a]);
     }
-  }
-  KeyBox region;
-  for (int a = 0; a < 3; ++a) {
-    region.lo[a] = lo[a];
-    region.hi[a] = hi[a];
-  }
   if (region.empty()) // nothing known and no ROI voxel: one brick
     for (int a = 0; a < 3; ++a)
       region.lo[a] = region.hi[a] = VoxelLattice::kKeyOffset;
@@ -364,11 +567,11 @@ void Snapshot::build(const octomap::OcTree& octree, const Roi& roi, bool full_ma
   bricks16.clear();
   bricks32.clear();
   if (code_bytes == 1)
-    fill(bricks8, region);
+    fill(bricks8, region, threads);
   else if (code_bytes == 2)
-    fill(bricks16, region);
+    fill(bricks16, region, threads);
   else
-    fill(bricks32, region);
+    fill(bricks32, region, threads);
   built = true;
 }
 

@@ -21,6 +21,9 @@ constexpr int kBrickShift = 3; ///< bricks of 8^3 voxels (octree nodes at depth 
 constexpr int kBrickMask = (1 << kBrickShift) - 1;
 constexpr int kBrickVoxels = 1 << (3 * kBrickShift);
 constexpr std::uint32_t kUniform = 0x80000000u; ///< table entry: one code for the brick
+/// Table entry while fill() runs on several threads: the brick lies in the filling
+/// thread's own buffer (Bricks::thread_voxels), not yet in `voxels`.
+constexpr std::uint32_t kThreadLocal = 0x40000000u;
 constexpr int kKeyLimit = VoxelLattice::kKeyLimit; ///< keys lie in [0, 65536)
 
 /// Voxel codes: bit 0 = the voxel centre lies in the ROI (always set without ROI),
@@ -90,6 +93,9 @@ struct Bricks {
   std::vector<CodeT> voxels;
   CodeT outside = 0;               ///< the code of voxels outside the table
   std::uint32_t outside_brick = 0; ///< a brick of `outside` codes
+  /// fill() on several threads: each thread's new bricks, moved into `voxels` in the
+  /// order one thread would have made them (kept only for their capacity).
+  std::vector<std::vector<CodeT>> thread_voxels;
 
   std::size_t slot(int rx, int ry, int rz) const
   {
@@ -135,7 +141,11 @@ public:
   /// Rebuilds from the tree. `full`: every known voxel (no ROI, or visibility
   /// weighting); otherwise the voxels in the ROI's key box and the occupied ones.
   /// `unknown_only`: a known value is worth 0 bits (GainConfig::unknown_only).
-  void build(const octomap::OcTree& tree, const Roi& roi, bool full, bool unknown_only);
+  /// `threads` (>= 1) OpenMP threads walk disjoint subtrees and fill their bricks; their
+  /// output is merged in the tree's order, so the snapshot (its codes, values and the
+  /// layout of its bricks) is the same at any thread count.
+  void build(const octomap::OcTree& tree, const Roi& roi, bool full, bool unknown_only,
+             int threads);
 
   const octomap::OcTree* tree = nullptr;
   VoxelLattice lattice{1.0}; ///< the tree's
@@ -156,22 +166,55 @@ public:
 private:
   struct Leaf {
     int k[3];
-    int shift; ///< the cube has 2^shift voxels per side
-    std::uint32_t value;
+    int shift;           ///< the cube has 2^shift voxels per side
+    std::uint32_t value; ///< provisional: an index into its Part's `distinct`
   };
-  void collect(const octomap::OcTreeNode* node, int depth, const int k[3]);
-  std::uint32_t valueIndex(float log_odds);
+  /// One thread's share of the walk (and its buffer of slots in fill()).
+  struct Part {
+    std::vector<Leaf> leaves;
+    std::vector<float> distinct;          ///< log-odds per provisional index
+    std::vector<std::uint32_t> hash_keys; ///< open addressing: float bits + 1 (0 = empty)
+    std::vector<std::uint32_t> hash_values;
+    std::uint32_t last_key = 0; ///< valueIndex's last lookup (0: none)
+    std::uint32_t last_value = 0;
+    std::vector<std::uint32_t> remap; ///< provisional index -> sorted value index
+    int lo[3], hi[3]; ///< the keys its leaves need in the snapshot (see build())
+    /// fill() on several threads: the table slot of each brick in the thread's buffer.
+    std::vector<std::size_t> brick_slots;
+
+    void reset();
+    std::uint32_t valueIndex(float log_odds);
+  };
+  /// A subtree that one thread walks, then one thread fills: its root lies at depth 13
+  /// or above, so its cube holds whole bricks. Tasks are disjoint cubes, listed in the
+  /// order of a depth-first walk.
+  struct Task {
+    const octomap::OcTreeNode* node;
+    int depth;
+    int k[3];
+    int part = 0; ///< collect(): the Part that holds its leaves
+    std::size_t leaf_begin = 0, leaf_end = 0;
+    /// fill() on several threads: its new bricks are [brick_begin, brick_end) of
+    /// thread fill_part's buffer, and go to `voxels` from brick_index on.
+    int fill_part = 0;
+    std::size_t brick_begin = 0, brick_end = 0, brick_index = 0;
+  };
+  /// Whether the subtree at `node` (depth, first key k) can hold a voxel to snapshot.
+  bool matters(const octomap::OcTreeNode* node, int depth, const int k[3]) const;
+  /// tasks_: the tree's top levels cut into disjoint subtrees.
+  void split(const octomap::OcTreeNode* root);
+  void collect(Part& part, const octomap::OcTreeNode* node, int depth,
+               const int k[3]) const;
   template <typename CodeT>
-  void fill(Bricks<CodeT>& bricks, const KeyBox& region);
+  void fill(Bricks<CodeT>& bricks, const KeyBox& region, int threads);
+  /// fill(): the leaves of one task, into bricks made by `writer`.
+  template <typename Writer>
+  void fillTask(const Task& task, const KeyBox& region, Writer& writer) const;
 
   float threshold_ = 0.0f;
-  std::vector<Leaf> leaves_;
-  std::vector<float> distinct_;          ///< log-odds per provisional index
-  std::vector<std::uint32_t> hash_keys_; ///< open addressing: float bits + 1 (0 = empty)
-  std::vector<std::uint32_t> hash_values_;
-  std::vector<std::uint32_t> remap_; ///< provisional index -> sorted value index
-  std::uint32_t last_key_ = 0;       ///< valueIndex's last lookup (0: none)
-  std::uint32_t last_value_ = 0;
+  std::vector<Part> parts_; ///< one per thread
+  std::vector<Task> tasks_;
+  std::vector<Task> next_tasks_; ///< split()'s buffer
 };
 
 } // namespace gain_detail

@@ -961,7 +961,8 @@ void InformationGain::buildSnapshot(const std::vector<std::size_t>& boxes)
   for (std::size_t i : boxes)
     roi.addBox(roi_.boxes()[i]);
   impl_->snapshot.build(map_->getOcTree(), roi, config_.visibility_weighted,
-                        config_.unknown_only);
+                        config_.unknown_only,
+                        threads_ > 0 ? threads_ : omp_get_max_threads());
   impl_->snapshot_boxes = boxes;
   dirty_ = false;
   stats_.update_ms = start.ms();

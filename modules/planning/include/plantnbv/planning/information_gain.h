@@ -109,9 +109,12 @@ struct ViewGain {
 /// getLastStats().update_ms.
 ///
 /// Thread safety: compute() and update() must not run concurrently with anything else on
-/// the same object; they read the map, which must not change meanwhile. compute() runs
-/// in parallel over the candidates (OpenMP); each candidate's gain is computed by one
-/// thread in a fixed order, so results never depend on the number of threads.
+/// the same object; they read the map, which must not change meanwhile. Both run on
+/// setNumberOfThreads() OpenMP threads. compute() runs in parallel over the candidates;
+/// each candidate's gain is computed by one thread in a fixed order. The snapshot
+/// (update(), or compute()'s rebuild) is built in parallel over disjoint subtrees of the
+/// octree, each thread's part merged in the order of a one-thread walk, so the snapshot
+/// is the same. Results never depend on the number of threads.
 class InformationGain {
 public:
   using Ptr = std::shared_ptr<InformationGain>; ///< shared gain computer
@@ -151,10 +154,11 @@ public:
   /// \brief The attention ROI (empty: everything counts).
   const Roi& getRoi() const { return roi_; }
 
-  /// \brief OpenMP threads of compute() (update() runs on one); 0 (default) = OpenMP's
-  /// default. Results never depend on it. \throws InvalidArgumentError if `threads` < 0.
+  /// \brief OpenMP threads of compute() and of the snapshot's rebuild (update()); 0
+  /// (default) = OpenMP's default. Results never depend on it. \throws
+  /// InvalidArgumentError if `threads` < 0.
   void setNumberOfThreads(int threads);
-  /// \brief The OpenMP threads of compute(); 0 = OpenMP's default.
+  /// \brief The OpenMP threads of compute() and update(); 0 = OpenMP's default.
   int getNumberOfThreads() const { return threads_; }
 
   /// \brief Rebuilds the snapshot of the map now. Called by compute() when the map's
