@@ -479,6 +479,30 @@ TEST(OccupancyMap, EqualsOctoMapForDenseCameraFrames)
   }
 }
 
+TEST(OccupancyMap, EqualsOctoMapOnExactTies)
+{
+  // From a voxel centre along axes and diagonals, with a resolution whose multiples are
+  // exact in binary, two or three axes cross their borders at the same t, where
+  // OctoMap steps z before y before x: a walk that breaks ties otherwise visits other
+  // voxels. (Random rays almost never tie exactly.)
+  OccupancyMap::Config config;
+  config.resolution_m = 0.25;
+  config.max_range_m = 4.0;
+  const Eigen::Vector3d centre(0.125, 0.125, 0.125);
+  CloudXYZ rays;
+  for (int x = -1; x <= 1; ++x)
+    for (int y = -1; y <= 1; ++y)
+      for (int z = -1; z <= 1; ++z)
+        for (const double r : {0.3, 1.0, 2.375, 3.0, 5.0})
+          if (x || y || z)
+            rays.push_back(point(centre.x() + r * x, centre.y() + r * y, centre.z() + r * z));
+  OccupancyMap map(config);
+  map.insert(rays, centre);
+  auto reference = makeReference(config);
+  referenceInsert(*reference, rays, centre, config.max_range_m);
+  expectSameTree(map.getOcTree(), *reference);
+}
+
 TEST(OccupancyMap, SameMapWithAnyThreadCount)
 {
   plantnbv::Rng rng(5);
