@@ -98,6 +98,18 @@ std::shared_ptr<OccupancyMap> lineWithAHitAt5()
   return map;
 }
 
+/// One view per cell of the paper's sector (seeded), then the paper's v0.
+std::vector<Viewpoint> sectorViewsAndV0(std::uint64_t seed)
+{
+  CylindricalSectorSampler sampler;
+  sampler.setSamplesPerCell(1);
+  Rng rng(seed);
+  std::vector<Viewpoint> views;
+  sampler.sample(rng, views);
+  views.push_back(test::paperV0());
+  return views;
+}
+
 } // namespace
 
 TEST(InformationGain, OccupancyEntropyValues)
@@ -315,12 +327,7 @@ TEST(InformationGain, EqualsTheReferenceOnAPlantMapAtAnyThreadCount)
 {
   const auto map = test::plantMap();
   const Plant& plant = test::plantWorld().plant;
-  CylindricalSectorSampler sampler;
-  sampler.setSamplesPerCell(1);
-  Rng rng(3);
-  std::vector<Viewpoint> views;
-  sampler.sample(rng, views);
-  views.push_back(test::paperV0());
+  const std::vector<Viewpoint> views = sectorViewsAndV0(3);
   GainConfig config = GainConfig::paper();
   config.rays_x = 32;
   config.rays_y = 24;
@@ -354,12 +361,7 @@ TEST(InformationGain, UpdateGivesTheSameSnapshotAndGainsAtAnyThreadCount)
   // one of every known voxel (visibility weighting), on the plant map, on a map of one
   // line of voxels (fewer subtrees than threads) and on an empty map.
   const Plant& plant = test::plantWorld().plant;
-  CylindricalSectorSampler sampler;
-  sampler.setSamplesPerCell(1);
-  Rng rng(5);
-  std::vector<Viewpoint> views;
-  sampler.sample(rng, views);
-  views.push_back(test::paperV0());
+  std::vector<Viewpoint> views = sectorViewsAndV0(5);
   views.push_back(
       lookingAlong(Eigen::Vector3d(centre(kLineK0 - 50), kLineY, kLineZ), 0.0));
   const std::pair<const char*, std::shared_ptr<const OccupancyMap>> maps[] = {
