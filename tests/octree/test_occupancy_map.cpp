@@ -495,7 +495,8 @@ TEST(OccupancyMap, EqualsOctoMapOnExactTies)
       for (int z = -1; z <= 1; ++z)
         for (const double r : {0.3, 1.0, 2.375, 3.0, 5.0})
           if (x || y || z)
-            rays.push_back(point(centre.x() + r * x, centre.y() + r * y, centre.z() + r * z));
+            rays.push_back(
+                point(centre.x() + r * x, centre.y() + r * y, centre.z() + r * z));
   OccupancyMap map(config);
   map.insert(rays, centre);
   auto reference = makeReference(config);
