@@ -155,9 +155,9 @@ void Snapshot::Part::reset()
   hash_values.assign(64, 0);
   last_key = 0;
   last_value = 0;
-  for (int a = 0; a < 3; ++a) {
-    lo[a] = kKeyLimit;
-    hi[a] = -1;
+  for (int a = 0; a < 3; ++a) { // empty, and min / max take any key
+    extent.lo[a] = kKeyLimit;
+    extent.hi[a] = -1;
   }
 }
 
@@ -227,8 +227,8 @@ void Snapshot::collect(Part& part, const octomap::OcTreeNode* node, int depth,
         l = std::max(l, roi_bbox.lo[a]);
         h = std::min(h, roi_bbox.hi[a]);
       }
-      part.lo[a] = std::min(part.lo[a], l);
-      part.hi[a] = std::max(part.hi[a], h);
+      part.extent.lo[a] = std::min(part.extent.lo[a], l);
+      part.extent.hi[a] = std::max(part.extent.hi[a], h);
     }
     return;
   }
@@ -547,16 +547,8 @@ void Snapshot::build(const octomap::OcTree& octree, const Roi& roi, bool full_ma
   // The region: the ROI's keys, every stored occupied leaf, and the other stored leaves
   // where they matter (within the ROI's keys unless every voxel is needed; collect()).
   KeyBox region = roi_bbox;
-  if (region.empty())
-    for (int a = 0; a < 3; ++a) {
-      region.lo[a] = kKeyLimit;
-      region.hi[a] = -1;
-    }
   for (int t = 0; t < threads; ++t)
-    for (int a = 0; a < 3; ++a) {
-      region.lo[a] = std::min(region.lo[a], parts_[static_cast<std::size_t>(t)].lo[a]);
-      region.hi[a] = std::max(region.hi[a], parts_[static_cast<std::size_t>(t)].hi[a]);
-    }
+    region.extend(parts_[static_cast<std::size_t>(t)].extent);
   if (region.empty()) // nothing known and no ROI voxel: one brick
     for (int a = 0; a < 3; ++a)
       region.lo[a] = region.hi[a] = VoxelLattice::kKeyOffset;

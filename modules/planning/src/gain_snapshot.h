@@ -178,7 +178,7 @@ private:
     std::uint32_t last_key = 0; ///< valueIndex's last lookup (0: none)
     std::uint32_t last_value = 0;
     std::vector<std::uint32_t> remap; ///< provisional index -> sorted value index
-    int lo[3], hi[3]; ///< the keys its leaves need in the snapshot (see build())
+    KeyBox extent; ///< the keys its leaves need in the snapshot (see collect())
     /// fill() on several threads: the table slot of each brick in the thread's buffer.
     std::vector<std::size_t> brick_slots;
 
