@@ -31,6 +31,12 @@ using namespace gain_detail;
 
 namespace {
 
+/// setNumberOfThreads()'s value, 0 meaning OpenMP's default.
+int threadsOrDefault(int threads)
+{
+  return threads > 0 ? threads : omp_get_max_threads();
+}
+
 /// One candidate's set of distinct voxels by key, in a box of bricks, with the largest
 /// visibility per voxel when weighted. Reused: reset() clears only what was used. For
 /// the general kernel (no ROI, or visibility weighting).
@@ -961,8 +967,7 @@ void InformationGain::buildSnapshot(const std::vector<std::size_t>& boxes)
   for (std::size_t i : boxes)
     roi.addBox(roi_.boxes()[i]);
   impl_->snapshot.build(map_->getOcTree(), roi, config_.visibility_weighted,
-                        config_.unknown_only,
-                        threads_ > 0 ? threads_ : omp_get_max_threads());
+                        config_.unknown_only, threadsOrDefault(threads_));
   impl_->snapshot_boxes = boxes;
   dirty_ = false;
   stats_.update_ms = start.ms();
@@ -1001,9 +1006,8 @@ void InformationGain::compute(const std::vector<Viewpoint>& candidates,
   ensureSnapshot(boxes);
   const Stopwatch start;
   out.assign(candidates.size(), ViewGain());
-  const int threads =
-      std::max(1, std::min(threads_ > 0 ? threads_ : omp_get_max_threads(),
-                           static_cast<int>(candidates.size())));
+  const int threads = std::max(
+      1, std::min(threadsOrDefault(threads_), static_cast<int>(candidates.size())));
   if (impl_->scratch.size() < static_cast<std::size_t>(threads))
     impl_->scratch.resize(static_cast<std::size_t>(threads));
   const auto n = static_cast<std::int64_t>(candidates.size());
