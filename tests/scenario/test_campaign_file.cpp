@@ -163,6 +163,34 @@ TEST(CampaignFile, TrialFingerprintsFollowTheContentNotTheText)
                            studies));
 }
 
+// The same file read over other built-in defaults (as a plantnbv whose defaults
+// changed reads it) is another campaign: its trials do not take the old results.
+TEST(CampaignFile, FingerprintsFollowTheBuiltInDefaultsToo)
+{
+  const std::string text =
+      kHead +
+      "studies:\n  - name: main\n    planners: [{type: nbv, attention: leaf_nodes}]\n";
+  const auto fingerprint = [&](const TrialConfig& defaults) {
+    const CampaignFile f = parseCampaignFile(text, "t.yaml", defaults);
+    return std::make_pair(f.definition.content_fingerprint,
+                          expandCampaign(f.definition)[0].fingerprint);
+  };
+  const auto ours = fingerprint(TrialConfig());
+  EXPECT_EQ(ours, fingerprint(TrialConfig()));
+  TrialConfig paper_planner;
+  paper_planner.view_spacing_m = 0.0;
+  const auto other = fingerprint(paper_planner);
+  EXPECT_NE(ours.first, other.first);
+  EXPECT_NE(ours.second, other.second);
+  // A default the file sets itself does not matter.
+  const std::string pinned =
+      kHead + "trial: {view_spacing: 0}\n" +
+      "studies:\n  - name: main\n    planners: [{type: nbv, attention: leaf_nodes}]\n";
+  EXPECT_EQ(
+      parseCampaignFile(pinned, "t.yaml").definition.content_fingerprint,
+      parseCampaignFile(pinned, "t.yaml", paper_planner).definition.content_fingerprint);
+}
+
 TEST_F(ScenarioFiles, AModelsScaleAndSectorRadiusReachItsTrials)
 {
   // A 1 m tall triangle in centimetres; its views 0.55 m from its axis.

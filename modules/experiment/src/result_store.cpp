@@ -142,7 +142,9 @@ void ResultStore::create(const std::string& definition_text,
     }
     if (stored != fingerprint)
       throw another("its fingerprint " + stored + " is not this definition's " +
-                    fingerprint + "; comments and key order do not count");
+                    fingerprint +
+                    "; comments and key order do not count, plantnbv's built-in "
+                    "trial defaults do");
     return;
   }
   // A directory of release 0.1.0, which wrote no record and no trial fingerprints: its

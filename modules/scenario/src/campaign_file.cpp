@@ -311,16 +311,17 @@ CampaignFile loadCampaignFile(const std::string& path)
   return parseCampaignFile(YamlReader::readText(path), path);
 }
 
-CampaignFile parseCampaignFile(const std::string& text, const std::string& path)
+CampaignFile parseCampaignFile(const std::string& text, const std::string& path,
+                               const TrialConfig& defaults)
 {
   CampaignFile f;
   f.path = path;
   f.text = text;
+  f.base = defaults;
   f.base_dir = fs::path(path).parent_path();
   const YamlReader r(path);
   const YAML::Node root = r.parse(f.text);
   CampaignDefinition& d = f.definition;
-  d.content_fingerprint = contentFingerprint(YamlReader::canonical(root));
   d.name = fs::path(path).stem().string();
   bool has_plants = false, has_studies = false;
   r.forEach(root, "",
@@ -395,6 +396,10 @@ CampaignFile parseCampaignFile(const std::string& text, const std::string& path)
   } catch (const InvalidArgumentError& e) {
     throw InvalidArgumentError("'" + path + "' " + e.what());
   }
+  // The file and the defaults it was read over: a default that changes makes another
+  // campaign, whose trials are run again rather than taken from an old directory.
+  d.content_fingerprint =
+      contentFingerprint(YamlReader::canonical(root) + "\n" + trialConfigText(f.base));
   // Candidates: the rule of setCandidateCount, checked with the key that set them.
   auto checkCandidates = [&](int n, const std::string& k) {
     TrialConfig c = f.base;

@@ -1,4 +1,6 @@
+#include <charconv>
 #include <cmath>
+#include <sstream>
 #include <vector>
 
 #include <plantnbv/common/error.h>
@@ -55,6 +57,35 @@ void readInitialView(const YamlReader& r, const YAML::Node& node, const std::str
   } catch (const InvalidArgumentError& e) {
     r.fail(path, e.what());
   }
+}
+
+/// The shortest text that reads back to `x` ("0.4", not "0.40000000000000002").
+std::string shortest(double x)
+{
+  char buffer[32];
+  return std::string(buffer, std::to_chars(buffer, buffer + sizeof(buffer), x).ptr);
+}
+
+bool sameCamera(const CameraIntrinsics& a, const CameraIntrinsics& b)
+{
+  return a.width == b.width && a.height == b.height && a.fx == b.fx && a.fy == b.fy &&
+         a.cx == b.cx && a.cy == b.cy && a.min_range_m == b.min_range_m &&
+         a.max_range_m == b.max_range_m;
+}
+
+std::string cameraSpec(const CameraIntrinsics& camera)
+{
+  for (const char* preset : {"l515", "l515-640", "l515-320"})
+    if (sameCamera(camera, parseCameraIntrinsics(preset)))
+      return preset;
+  return std::to_string(camera.width) + "x" + std::to_string(camera.height) + ":" +
+         shortest(camera.fx) + "," + shortest(camera.fy) + "," + shortest(camera.cx) +
+         "," + shortest(camera.cy);
+}
+
+const char* boolText(bool b)
+{
+  return b ? "true" : "false";
 }
 
 } // namespace
@@ -137,6 +168,55 @@ void readTrialConfig(const YamlReader& r, const YAML::Node& root, const std::str
                     {{"floor", into(r, c.scene.floor, boolean)},
                      {"support", into(r, c.scene.support, boolean)}});
         }}});
+}
+
+std::string trialConfigText(const TrialConfig& c)
+{
+  const auto n = [](double x) { return shortest(x); };
+  const Eigen::Vector3d& p = c.initial_view.position;
+  const Eigen::Quaterniond& q = c.initial_view.orientation;
+  const OccupancyMap::Config& m = c.map;
+  const GainConfig& g = c.gain;
+  std::ostringstream s;
+  s << "camera: " << cameraSpec(c.camera) << "\n"
+    << "noise: " << boolText(c.noise.enabled) << "\n"
+    << "views: " << c.views << "\n"
+    << "depth_scale: " << n(c.depth_scale) << "\n"
+    << "planner: " << plannerKindName(c.planner) << "\n"
+    << "pattern: " << c.pattern << "\n"
+    << "roi_source: " << roiSourceKindName(c.roi_source.kind) << "\n"
+    << "roi_sigma: " << n(c.roi_source.sigma_m) << "\n"
+    << "roi_scale: " << n(c.roi_source.scale) << "\n"
+    << "detector_recall: " << n(c.roi_source.detector_recall) << "\n"
+    << "detector_false_positives: " << n(c.roi_source.detector_false_positives) << "\n"
+    << "prior_internode: " << n(c.roi_source.prior_internode_m) << "\n"
+    << "stop_gain_bits: " << n(c.stop_gain_bits) << "\n"
+    << "explore_share: " << n(c.explore_share) << "\n"
+    << "view_spacing: " << n(c.view_spacing_m) << "\n"
+    << "seed: " << c.seed << "\n"
+    << "time_limit_s: " << n(c.time_limit_s) << "\n"
+    << "memory_cap_gib: " << n(c.memory_cap_bytes / (1024.0 * 1024.0 * 1024.0)) << "\n"
+    << "initial_view: {position: [" << n(p.x()) << ", " << n(p.y()) << ", " << n(p.z())
+    << "], orientation: [" << n(q.x()) << ", " << n(q.y()) << ", " << n(q.z()) << ", "
+    << n(q.w()) << "]}\n"
+    << "sector: {radius: " << n(c.sector.radius_m) << ", height: " << n(c.sector.height_m)
+    << ", bottom: " << n(c.sector.bottom_m)
+    << ", angle_deg: " << n(c.sector.angle_rad * 180.0 / M_PI)
+    << ", rows: " << c.grid_rows << ", cols: " << c.grid_cols
+    << ", samples_per_cell: " << c.samples_per_cell << "}\n"
+    << "map: {resolution: " << n(m.resolution_m) << ", prob_hit: " << n(m.prob_hit)
+    << ", prob_miss: " << n(m.prob_miss) << ", clamp_min: " << n(m.clamp_min)
+    << ", clamp_max: " << n(m.clamp_max)
+    << ", occupancy_threshold: " << n(m.occupancy_threshold)
+    << ", max_range: " << n(m.max_range_m) << "}\n"
+    << "gain: {rays_x: " << g.rays_x << ", rays_y: " << g.rays_y
+    << ", raycast_range: " << n(g.raycast_range_m)
+    << ", visibility_weighted: " << boolText(g.visibility_weighted)
+    << ", unknown_only: " << boolText(g.unknown_only)
+    << ", unknown_depth: " << g.unknown_depth << "}\n"
+    << "scene: {floor: " << boolText(c.scene.floor)
+    << ", support: " << boolText(c.scene.support) << "}\n";
+  return s.str();
 }
 
 void loadTrialConfig(const std::string& path, TrialConfig& config)

@@ -24,15 +24,21 @@ struct CampaignFile {
 };
 
 /// \brief Reads and checks a campaign file (keys in data/campaigns/paper.yaml and
-/// docs/campaigns.md); every trial's config is validated.
+/// docs/campaigns.md); every trial's config is validated. The definition's
+/// content_fingerprint hashes the file's canonical text and the resolved trial config
+/// (trialConfigText of `base`), so that the same file run under other built-in defaults
+/// is another campaign, whose results are not taken for this one's.
 /// \throws IoError if it cannot be read; FormatError naming the file and the key path for
 /// an unknown key, a wrong type or an impossible value; InvalidArgumentError naming the
 /// trial for a trial config that does not validate.
 CampaignFile loadCampaignFile(const std::string& path);
 
 /// \brief The same from the file's text; `path` names it in messages and is where
-/// relative paths start from. \throws as loadCampaignFile, but no IoError.
-CampaignFile parseCampaignFile(const std::string& text, const std::string& path);
+/// relative paths start from. `defaults`: the trial config the `trial:` section
+/// overrides (the built-in one unless given). \throws as loadCampaignFile, but no
+/// IoError.
+CampaignFile parseCampaignFile(const std::string& text, const std::string& path,
+                               const TrialConfig& defaults = TrialConfig());
 
 /// \brief The config of trial `t` of `f` (without a model's sector height, which needs
 /// the plant: fitSectorToPlant). One thread: campaigns run one trial per worker.
