@@ -1,3 +1,4 @@
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <limits>
@@ -19,6 +20,7 @@
 
 using plantnbv::CloudXYZ;
 using plantnbv::OccupancyMap;
+using plantnbv::OccupiedVoxelOptions;
 using plantnbv::VoxelState;
 
 namespace {
@@ -246,6 +248,77 @@ TEST(OccupancyMap, PlaneSeenFromTheFront)
   EXPECT_EQ(centres.size(), plane_voxels.size());
   for (const auto& c : centres)
     EXPECT_NEAR(c.x, 0.301, 0.003);
+}
+
+// The map's occupied centres skip subtrees whose node is not occupied (its inner nodes
+// hold their children's maximum) and are still the full walk's points, in its order; on
+// a tree whose inner nodes do not (a lazy update), the skip would miss a voxel, which is
+// why occupiedVoxelCentres walks everything unless told.
+TEST(OccupancyMap, OccupiedCentresSkipFreeSubtreesAndGiveTheFullWalksPoints)
+{
+  OccupancyMap::Config config;
+  config.resolution_m = 0.01;
+  OccupancyMap map(config);
+  plantnbv::Rng rng(21);
+  for (const Eigen::Vector3d& origin :
+       {Eigen::Vector3d(0.0, 0.0, 0.0), Eigen::Vector3d(0.2, -0.1, 0.05),
+        Eigen::Vector3d(-0.15, 0.1, 0.0)}) // later frames carve some earlier hits
+    map.insert(randomFrame(rng, origin, config.resolution_m, config.max_range_m, 4000),
+               origin);
+  const auto expectSame = [&](const OccupiedVoxelOptions& options) {
+    CloudXYZ full, skipping;
+    plantnbv::occupiedVoxelCentres(map.getOcTree(), full, options);
+    map.getOccupiedVoxelCentres(skipping, options);
+    EXPECT_EQ(skipping.size(), full.size());
+    std::size_t differ = 0;
+    for (std::size_t i = 0; i < std::min(full.size(), skipping.size()); ++i)
+      differ += !(skipping[i].x == full[i].x && skipping[i].y == full[i].y &&
+                  skipping[i].z == full[i].z);
+    EXPECT_EQ(differ, 0u);
+    return full.size();
+  };
+  OccupiedVoxelOptions options;
+  EXPECT_GT(expectSame(options), 1000u);
+  // Both are OctoMap's leaf iteration, each pruned leaf expanded (z fastest).
+  const octomap::OcTree& tree = map.getOcTree();
+  CloudXYZ iterated, walked;
+  for (auto it = tree.begin_leafs(); it != tree.end_leafs(); ++it) {
+    if (!tree.isNodeOccupied(*it))
+      continue;
+    const int n = 1 << (tree.getTreeDepth() - it.getDepth());
+    const octomap::OcTreeKey& key = it.getKey();
+    for (int x = key[0] - n / 2; x < key[0] + n - n / 2; ++x)
+      for (int y = key[1] - n / 2; y < key[1] + n - n / 2; ++y)
+        for (int z = key[2] - n / 2; z < key[2] + n - n / 2; ++z)
+          iterated.push_back(point(tree.keyToCoord(static_cast<octomap::key_type>(x)),
+                                   tree.keyToCoord(static_cast<octomap::key_type>(y)),
+                                   tree.keyToCoord(static_cast<octomap::key_type>(z))));
+  }
+  map.getOccupiedVoxelCentres(walked);
+  ASSERT_EQ(walked.size(), iterated.size());
+  for (std::size_t i = 0; i < walked.size(); ++i)
+    ASSERT_TRUE(walked[i].x == iterated[i].x && walked[i].y == iterated[i].y &&
+                walked[i].z == iterated[i].z)
+        << i;
+  options.threshold = 0.8; // two hits or more
+  EXPECT_GT(expectSame(options), 10u);
+  options.threshold = -1.0;
+  options.roi.addBox(plantnbv::Box::fromMinMax(Eigen::Vector3d(0.0, -0.3, -0.3),
+                                               Eigen::Vector3d(0.5, 0.3, 0.3)));
+  EXPECT_GT(expectSame(options), 100u);
+
+  octomap::OcTree lazy(0.01);
+  const octomap::OcTreeKey free_key(32768, 32768, 32768), hit_key(32769, 32768, 32768);
+  for (int i = 0; i < 3; ++i)
+    lazy.updateNode(free_key, false);                 // the path above it holds "free"
+  lazy.updateNode(hit_key, true, /*lazy_eval=*/true); // ... and still does
+  CloudXYZ cloud;
+  plantnbv::occupiedVoxelCentres(lazy, cloud);
+  EXPECT_EQ(cloud.size(), 1u);
+  OccupiedVoxelOptions trusting;
+  trusting.inner_nodes_hold_max = true;
+  plantnbv::occupiedVoxelCentres(lazy, cloud, trusting);
+  EXPECT_EQ(cloud.size(), 0u);
 }
 
 TEST(OccupancyMap, PointsBeyondMaxRangeCarveFreeSpaceOnly)

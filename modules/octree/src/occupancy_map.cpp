@@ -844,7 +844,9 @@ bool OccupancyMap::isKnown(const octomap::OcTreeKey& key) const
 void OccupancyMap::getOccupiedVoxelCentres(CloudXYZ& cloud,
                                            const OccupiedVoxelOptions& options) const
 {
-  occupiedVoxelCentres(*tree_, cloud, options);
+  OccupiedVoxelOptions own = options;
+  own.inner_nodes_hold_max = true; // insert is non-lazy; read() updates inner nodes
+  occupiedVoxelCentres(*tree_, cloud, own);
 }
 
 OccupancyMap::VoxelCounts OccupancyMap::countVoxels() const

@@ -186,31 +186,15 @@ public:
     }
   }
 
-  /// Calls f(iterator, lo, hi) for every occupied leaf with the keys [lo, hi] per axis
-  /// that it expands to (empty when lo > hi on an axis).
+  /// Calls f(lo, hi) for every occupied leaf with the keys [lo, hi] per axis that it
+  /// expands to (empty when lo > hi on an axis), in OctoMap's leaf iteration order
+  /// (depth first, children 0 to 7).
   template <typename F>
   void forEach(F&& f) const
   {
-    const double threshold = options_.threshold;
-    for (auto it = tree_.begin_leafs(), end = tree_.end_leafs(); it != end; ++it) {
-      const bool occupied =
-          threshold < 0.0 ? tree_.isNodeOccupied(*it) : it->getOccupancy() > threshold;
-      if (!occupied)
-        continue;
-      // A leaf above the finest level (pruned) spans n keys per axis, and its iterator
-      // key is the one just above its centre (OcTreeKey computeChildKey), so it covers
-      // [key - n / 2, key + n / 2 - 1]; a leaf at the finest level is its own key.
-      const std::int64_t n = std::int64_t{1} << (depth_ - it.getDepth());
-      std::int64_t lo[3], hi[3];
-      for (int a = 0; a < 3; ++a) {
-        lo[a] = static_cast<std::int64_t>(it.getKey()[a]) - n / 2;
-        hi[a] = lo[a] + n - 1;
-        if (!options_.roi.empty()) {
-          lo[a] = std::max(lo[a], roi_lo_[a]);
-          hi[a] = std::min(hi[a], roi_hi_[a]);
-        }
-      }
-      f(it, lo, hi);
+    if (const octomap::OcTreeNode* root = tree_.getRoot()) {
+      const std::int64_t lo[3] = {0, 0, 0};
+      walk(*root, 0, lo, f);
     }
   }
 
@@ -218,7 +202,7 @@ public:
   double count() const
   {
     double count = 0.0;
-    forEach([&](const auto&, const std::int64_t* lo, const std::int64_t* hi) {
+    forEach([&](const std::int64_t* lo, const std::int64_t* hi) {
       double voxels = 1.0;
       for (int a = 0; a < 3; ++a)
         voxels *= static_cast<double>(std::max<std::int64_t>(hi[a] - lo[a] + 1, 0));
@@ -228,6 +212,48 @@ public:
   }
 
 private:
+  bool occupied(const octomap::OcTreeNode& node) const
+  {
+    const double threshold = options_.threshold;
+    return threshold < 0.0 ? tree_.isNodeOccupied(node) : node.getOccupancy() > threshold;
+  }
+
+  /// The node at `depth` whose keys start at `lo` per axis (child i takes the upper half
+  /// of axis a where bit a of i is set: OctoMap's child index).
+  template <typename F>
+  void walk(const octomap::OcTreeNode& node, unsigned depth, const std::int64_t lo[3],
+            F& f) const
+  {
+    const std::int64_t n = std::int64_t{1} << (depth_ - depth); // keys per axis
+    if (tree_.nodeHasChildren(&node)) {
+      // An inner node holding its children's maximum is occupied when any is.
+      if (options_.inner_nodes_hold_max && !occupied(node))
+        return;
+      for (unsigned i = 0; i < 8; ++i) {
+        if (!tree_.nodeChildExists(&node, i))
+          continue;
+        const std::int64_t child_lo[3] = {lo[0] + ((i & 1u) ? n / 2 : 0),
+                                          lo[1] + ((i & 2u) ? n / 2 : 0),
+                                          lo[2] + ((i & 4u) ? n / 2 : 0)};
+        walk(*tree_.getNodeChild(&node, i), depth + 1, child_lo, f);
+      }
+      return;
+    }
+    if (!occupied(node))
+      return;
+    std::int64_t leaf_lo[3], leaf_hi[3];
+    for (int a = 0; a < 3; ++a) {
+      leaf_lo[a] = lo[a];
+      leaf_hi[a] = lo[a] + n - 1;
+      if (!options_.roi.empty()) {
+        leaf_lo[a] = std::max(leaf_lo[a], roi_lo_[a]);
+        leaf_hi[a] = std::min(leaf_hi[a], roi_hi_[a]);
+      }
+    }
+    f(static_cast<const std::int64_t*>(leaf_lo),
+      static_cast<const std::int64_t*>(leaf_hi));
+  }
+
   const octomap::OcTree& tree_;
   const OccupiedVoxelOptions& options_;
   const unsigned depth_;
@@ -263,7 +289,7 @@ void occupiedVoxelCentres(const octomap::OcTree& tree, CloudXYZ& cloud,
     cloud.push_back(pcl::PointXYZ(static_cast<float>(x), static_cast<float>(y),
                                   static_cast<float>(z)));
   };
-  leaves.forEach([&](const auto&, const std::int64_t* lo, const std::int64_t* hi) {
+  leaves.forEach([&](const std::int64_t* lo, const std::int64_t* hi) {
     octomap::OcTreeKey key;
     for (std::int64_t kx = lo[0]; kx <= hi[0]; ++kx)
       for (std::int64_t ky = lo[1]; ky <= hi[1]; ++ky)

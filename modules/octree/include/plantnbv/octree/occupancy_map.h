@@ -187,7 +187,8 @@ public:
   /// map lives; changed by `insert` and `clear`.
   const octomap::OcTree& getOcTree() const { return *tree_; }
 
-  /// \brief Centres of the occupied voxels (plantnbv::occupiedVoxelCentres on the tree).
+  /// \brief Centres of the occupied voxels (plantnbv::occupiedVoxelCentres on the tree;
+  /// its inner nodes hold their children's maximum, so free subtrees are not walked).
   void getOccupiedVoxelCentres(CloudXYZ& cloud,
                                const OccupiedVoxelOptions& options = {}) const;
 

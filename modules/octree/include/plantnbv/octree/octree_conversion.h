@@ -32,6 +32,12 @@ struct OccupiedVoxelOptions {
   /// The most bytes the cloud may take (16 per point): a pruned node of a tiny file can
   /// stand for 2^48 voxels. Over it, nothing is allocated.
   double memory_cap_bytes = kDefaultMemoryCapBytes;
+  /// The tree's inner nodes hold the maximum of their children's log-odds (OctoMap's
+  /// non-lazy updates and updateInnerOccupancy() leave them so; OccupancyMap's always
+  /// are): a subtree whose node is not occupied holds no occupied voxel and is not
+  /// walked. The same points either way on such a tree, far faster on a map of mostly
+  /// free space; on another tree, occupied voxels would be missed.
+  bool inner_nodes_hold_max = false;
 };
 
 /// \brief The number of points `occupiedVoxelCentres` gives with `options` before the
