@@ -1,3 +1,4 @@
+#include <algorithm>
 #include <cmath>
 
 #include <gtest/gtest.h>
@@ -189,6 +190,48 @@ TEST(CampaignFile, FingerprintsFollowTheBuiltInDefaultsToo)
   EXPECT_EQ(
       parseCampaignFile(pinned, "t.yaml").definition.content_fingerprint,
       parseCampaignFile(pinned, "t.yaml", paper_planner).definition.content_fingerprint);
+}
+
+// A model kept in its file's frame (keep_frame) stands where the file puts it in every
+// trial, so that boxes drawn in that frame (the ROI viewpoint planner's) match it.
+TEST_F(ScenarioFiles, AModelKeptInItsFilesFrameStaysThereInItsTrials)
+{
+  // A 0.5 m triangle standing at x = 2 in its file.
+  write("far.obj", "o Stem\nv 2 0 0.1\nv 2.05 0 0.1\nv 2 0 0.6\nf 1 2 3\n");
+  write("far_rois.yaml", "- {min: [1.9, -0.1, 0.1], max: [2.1, 0.1, 0.6]}\n");
+  const std::string studies =
+      "views: 2\ncandidates: 9\nstudies:\n  - name: main\n    planners: [{type: "
+      "predefined, patterns: [1]}]\n";
+  const std::string path =
+      write("c.yaml", "name: t\nplants: [{model: far.obj, keep_frame: true, rois: "
+                      "far_rois.yaml}]\nyaws_deg: [0]\n" +
+                          studies);
+  const CampaignFile f = loadCampaignFile(path);
+  EXPECT_TRUE(f.definition.plants[0].keep_frame);
+  TrialResult result;
+  runCampaignTrial(f, expandCampaign(f.definition).at(0), result);
+  ASSERT_EQ(result.steps.size(), 2u);
+  // The sector is around the model where its file has it (bottom-face centre x = 2.025),
+  // not at the default base (1, 0, 0.8); the user's boxes are scored as model_rois.
+  const Eigen::Vector3d& p = result.steps[1].view.position;
+  EXPECT_NEAR(std::hypot(p.x() - 2.025, p.y()), 0.4, 1e-6) << p.transpose();
+  const auto& names = result.level_names;
+  EXPECT_NE(std::find(names.begin(), names.end(), "model_rois"), names.end());
+
+  EXPECT_EQ(errorOf([&] {
+              parseCampaignFile("name: t\nplants: [{model: far.obj, keep_frame: true}]\n"
+                                "yaws_deg: [0, 90]\n" +
+                                    studies,
+                                path);
+            }),
+            "'" + path +
+                "' plants[0].keep_frame: a plant kept in its file's frame is not turned: "
+                "yaws_deg must be [0]");
+  EXPECT_EQ(errorOf([] {
+              parseCampaignFile("name: t\nplants: [{seed: 0, keep_frame: true}]\n",
+                                "t.yaml");
+            }),
+            "'t.yaml' plants[0].keep_frame: a generated plant has no file frame to keep");
 }
 
 TEST_F(ScenarioFiles, AModelsScaleAndSectorRadiusReachItsTrials)

@@ -71,6 +71,10 @@ void readPlants(const YamlReader& r, const YAML::Node& node, const std::string& 
           [&](const YAML::Node& n, const std::string& k) {
             plant.rois = r.read<std::string>(n, k, "an ROI file name");
           }},
+         {"keep_frame",
+          [&](const YAML::Node& n, const std::string& k) {
+            plant.keep_frame = r.read<bool>(n, k, "true or false");
+          }},
          {"scale",
           [&](const YAML::Node& n, const std::string& k) {
             plant.scale = r.read<double>(n, k, "metres per file unit");
@@ -103,6 +107,8 @@ void readPlants(const YamlReader& r, const YAML::Node& node, const std::string& 
       r.fail(p + ".labels", "label rules belong to a model file");
     if (plant.scale != 0.0)
       r.fail(p + ".scale", "a scale belongs to a model file");
+    if (plant.keep_frame)
+      r.fail(p + ".keep_frame", "a generated plant has no file frame to keep");
     if (named && seeds.size() > 1)
       r.fail(p + ".name", "one name for several seeds");
     for (std::uint64_t seed : seeds) {
@@ -388,6 +394,23 @@ CampaignFile parseCampaignFile(const std::string& text, const std::string& path,
               }}});
   if (!has_plants)
     r.fail("plants", "missing");
+  // A plant in its file's frame is not turned (the yaws would be the same trial again)
+  // and has no base to place a row's neighbours from.
+  for (std::size_t i = 0; i < d.plants.size(); ++i) {
+    if (!d.plants[i].keep_frame)
+      continue;
+    const std::string key = "plants[" + std::to_string(i) + "].keep_frame";
+    for (double yaw : d.yaws_deg)
+      if (yaw != 0.0)
+        r.fail(key,
+               "a plant kept in its file's frame is not turned: yaws_deg must be [0]");
+    for (const CampaignStudy& study : d.studies)
+      for (double spacing : study.row_spacings_m)
+        if (spacing != 0.0)
+          r.fail(key, "a plant kept in its file's frame has no base to place the "
+                      "neighbours of study '" +
+                          study.name + "' from");
+  }
   if (!has_studies)
     r.fail("studies", "missing");
   try {
@@ -441,6 +464,7 @@ void runCampaignTrial(const CampaignFile& f, const TrialSpec& t, TrialResult& re
   source.labels = plant.labels;
   source.scale = plant.scale;
   source.rois = resolve(f, plant.rois);
+  source.keep_frame = plant.keep_frame;
   source.yaw_deg = t.yaw_deg;
   const PlacedPlant placed = makePlacedPlant(source);
   TrialConfig config = campaignTrialConfig(f, t);

@@ -25,6 +25,9 @@ struct CampaignPlant {
   std::string labels;                   ///< part label rules of a mesh model
   double scale = 0.0;                   ///< a model's metres per file unit; 0: the file's
   std::string rois;                     ///< ROI file of a model
+  /// A model kept in its file's coordinates (no base, no yaw: the campaign's yaws_deg
+  /// must be [0]), so that boxes drawn in that frame (rois, attention files) match it.
+  bool keep_frame = false;
   /// The sector radius for this plant (metres); unset: the trial config's (0.4 m).
   std::optional<double> sector_radius_m;
 };
