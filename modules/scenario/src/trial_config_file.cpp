@@ -172,7 +172,7 @@ void readTrialConfig(const YamlReader& r, const YAML::Node& root, const std::str
 
 std::string trialConfigText(const TrialConfig& c)
 {
-  const auto n = [](double x) { return shortest(x); };
+  const auto n = &shortest;
   const Eigen::Vector3d& p = c.initial_view.position;
   const Eigen::Quaterniond& q = c.initial_view.orientation;
   const OccupancyMap::Config& m = c.map;

@@ -49,11 +49,12 @@ void readTrialConfig(const io::YamlReader& reader, const YAML::Node& node,
 
 /// \brief `config` as a trial config file: every key loadTrialConfig reads, numbers in
 /// their shortest form that reads back exactly, so that loading the text gives the same
-/// values (v0's orientation to rounding: it is normalized again when read; the rest of
-/// TrialConfig, e.g. the noise model's constants and the threads, is not written). The camera is named by its preset (l515, l515-640, l515-320) when it
-/// is one, else written as WxH:fx,fy,cx,cy, whose range limits are the presets'. A
-/// campaign's fingerprint includes it, so that results made under other built-in
-/// defaults are another campaign's.
+/// values (v0's orientation to rounding: it is normalized again when read). The rest of
+/// TrialConfig (the noise model's constants, the threads) is not written. The camera is
+/// named by its preset (l515, l515-640, l515-320) when it is one, else written as
+/// WxH:fx,fy,cx,cy, whose range limits are the presets'. A campaign's fingerprint
+/// includes it, so that results made under other built-in defaults are another
+/// campaign's.
 std::string trialConfigText(const TrialConfig& config);
 
 } // namespace scenario
