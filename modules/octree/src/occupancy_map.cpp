@@ -91,11 +91,18 @@ struct Block {
   }
 };
 
-void setBit(std::atomic<std::uint64_t>& word, std::uint64_t bit)
+/// Sets `bit` in `word`; `shared`: other threads write the bitset too (an atomic
+/// read-modify-write, a locked instruction), else a plain load and store.
+void setBit(std::atomic<std::uint64_t>& word, std::uint64_t bit, bool shared)
 {
   // Most voxels are crossed by many rays: test first, write once.
-  if (!(word.load(std::memory_order_relaxed) & bit))
+  const std::uint64_t old = word.load(std::memory_order_relaxed);
+  if (old & bit)
+    return;
+  if (shared)
     word.fetch_or(bit, std::memory_order_relaxed);
+  else
+    word.store(old | bit, std::memory_order_relaxed);
 }
 
 /// One frame's ray: where it ends and whether the end is a hit.
@@ -428,8 +435,9 @@ using Scratch = detail::OccupancyMapScratch;
 /// increment) instead of recomputing it; rays are coherent, so the block rarely changes.
 class BitsetWriter {
 public:
-  BitsetWriter(Scratch& scratch, std::vector<std::uint64_t>& overflow)
-      : scratch_(scratch), overflow_(overflow)
+  /// `shared`: other threads write the same bitset at the same time.
+  BitsetWriter(Scratch& scratch, std::vector<std::uint64_t>& overflow, bool shared)
+      : scratch_(scratch), overflow_(overflow), shared_(shared)
   {
   }
 
@@ -462,7 +470,8 @@ public:
   {
     locate(kx, ky, kz);
     if (block_)
-      setBit(block_->occupied_bits[morton_ >> 6], std::uint64_t{1} << (morton_ & 63u));
+      setBit(block_->occupied_bits[morton_ >> 6], std::uint64_t{1} << (morton_ & 63u),
+             shared_);
   }
 
 private:
@@ -472,7 +481,8 @@ private:
   void markFree()
   {
     if (block_)
-      setBit(block_->free_bits[morton_ >> 6], std::uint64_t{1} << (morton_ & 63u));
+      setBit(block_->free_bits[morton_ >> 6], std::uint64_t{1} << (morton_ & 63u),
+             shared_);
     else
       outside();
   }
@@ -519,6 +529,7 @@ private:
   int key_[3] = {0, 0, 0}; ///< last located key (for outside())
   std::uint32_t morton_ = 0;
   bool up_[3] = {false, false, false};
+  const bool shared_;
 };
 
 } // namespace
@@ -696,7 +707,7 @@ void OccupancyMap::insertImpl(const pcl::PointCloud<PointT>& points_W,
     std::vector<std::uint64_t>& overflow =
         scratch.overflow[static_cast<std::size_t>(omp_get_thread_num())];
     overflow.clear();
-    BitsetWriter writer(scratch, overflow);
+    BitsetWriter writer(scratch, overflow, threads > 1);
 #pragma omp for schedule(dynamic, 4096)
     for (std::int64_t i = 0; i < n; ++i) {
       const Ray& ray = rays[i];

@@ -214,9 +214,17 @@ void traverseRay(const float origin[3], const float end[3], const int key_origin
   const int ex = key_end[0], ey = key_end[1], ez = key_end[2];
   const float length = s.length;
   int kx = key_origin[0], ky = key_origin[1], kz = key_origin[2];
+  // A voxel entered more than two voxels (> sqrt(3)) short of the segment's length is
+  // left before it: it is not the end voxel, and OctoMap's length rule cannot stop there.
+  const double checks_from = length - 2.0 * lattice.resolution();
   for (;;) {
     double t_entry;
     const int axis = ddaStep(tx, ty, tz, dx, dy, dz, sx, sy, sz, kx, ky, kz, t_entry);
+    if (t_entry < checks_from) {
+      if (!detail::proceed([&] { return visitor.next(axis, kx, ky, kz, t_entry); }))
+        break;
+      continue;
+    }
     if (kx == ex && ky == ey && kz == ez)
       break;
     // Past the segment's length without reaching the end voxel (rounding): stop.
