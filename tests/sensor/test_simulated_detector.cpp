@@ -87,6 +87,50 @@ TEST(SimulatedDetector, APerfectDetectorFindsTheVisibleInstanceWithItsPixels)
   EXPECT_TRUE(out.empty());
 }
 
+// Masks grown or shrunk by a square (a segmenter's overshoot or undershoot): the stem's
+// 4 x 17 pixels in the node box, grown by 2 into the floor around them, shrunk by 1 to
+// their inside, shrunk by 2 to nothing (missed); the box follows the mask.
+TEST(SimulatedDetector, MasksGrowAndShrinkAndTheBoxFollows)
+{
+  const auto detect = [](int dilation, bool masks) {
+    SimulatedDetector::Config config;
+    config.mask_dilation_px = dilation;
+    config.masks = masks;
+    std::vector<Detection> out;
+    SimulatedDetector(config).detect(frame(), node(), 0, out);
+    return out;
+  };
+  const auto maskIs = [](const Detection& d, int u0, int v0, int u1, int v1) {
+    std::size_t wrong = 0;
+    for (int v = 0; v < 30; ++v)
+      for (int u = 0; u < 40; ++u)
+        wrong += (d.mask[std::size_t(v) * 40 + u] != 0) !=
+                 (u >= u0 && u <= u1 && v >= v0 && v <= v1);
+    return wrong;
+  };
+  std::vector<Detection> grown = detect(2, true);
+  ASSERT_EQ(grown.size(), 1u);
+  EXPECT_EQ(grown[0].box_px, Eigen::Vector4d(8, 6, 16, 27));
+  EXPECT_EQ(maskIs(grown[0], 8, 6, 15, 26), 0u);
+  const std::vector<Detection> shrunk = detect(-1, true);
+  ASSERT_EQ(shrunk.size(), 1u);
+  EXPECT_EQ(shrunk[0].box_px, Eigen::Vector4d(11, 9, 13, 24));
+  EXPECT_EQ(maskIs(shrunk[0], 11, 9, 12, 23), 0u);
+  EXPECT_TRUE(detect(-2, true).empty()); // 4 columns: nothing survives a 5 x 5 square
+  // Boxes only: the box still follows; the score is the same draw as without.
+  const std::vector<Detection> boxes = detect(2, false);
+  ASSERT_EQ(boxes.size(), 1u);
+  EXPECT_TRUE(boxes[0].mask.empty());
+  EXPECT_EQ(boxes[0].box_px, grown[0].box_px);
+  EXPECT_EQ(boxes[0].score, detect(0, true)[0].score);
+  // At the image's edge a grown mask is clipped: a node box over the whole stem's
+  // columns, grown by 64, covers the image but for nothing.
+  std::vector<Detection> huge = detect(64, true);
+  ASSERT_EQ(huge.size(), 1u);
+  EXPECT_EQ(huge[0].box_px, Eigen::Vector4d(0, 0, 40, 30));
+  EXPECT_EQ(maskIs(huge[0], 0, 0, 39, 29), 0u);
+}
+
 TEST(SimulatedDetector, MissesFalsePositivesAndJitterAreSeededPerFrame)
 {
   SimulatedDetector::Config config;
@@ -152,6 +196,9 @@ TEST(SimulatedDetector, BadQualityAndUnorganizedFramesAreRefused)
   EXPECT_THROW(SimulatedDetector{config}, InvalidArgumentError);
   config = SimulatedDetector::Config();
   config.box_jitter_px = std::numeric_limits<double>::infinity();
+  EXPECT_THROW(SimulatedDetector{config}, InvalidArgumentError);
+  config = SimulatedDetector::Config();
+  config.mask_dilation_px = -65;
   EXPECT_THROW(SimulatedDetector{config}, InvalidArgumentError);
   config = SimulatedDetector::Config();
   config.class_name = "";

@@ -22,6 +22,58 @@ double jittered(double edge, double sigma_px, double side, Rng& rng)
   return std::clamp(edge, 0.0, side);
 }
 
+/// `pixels` (ascending row-major indices of a width x height image) grown (radius > 0)
+/// or shrunk (radius < 0) by |radius| pixels with a square: a separable running count
+/// over rows, then columns, inside the pixels' bounds grown by |radius|. Pixels outside
+/// the image count as not the instance's.
+std::vector<std::uint32_t> dilated(const std::vector<std::uint32_t>& pixels,
+                                   std::uint32_t width, std::uint32_t height, int radius)
+{
+  const int r = std::abs(radius);
+  int u0 = int(width), v0 = int(height), u1 = -1, v1 = -1;
+  for (std::uint32_t i : pixels) {
+    u0 = std::min(u0, int(i % width));
+    u1 = std::max(u1, int(i % width));
+    v0 = std::min(v0, int(i / width));
+    v1 = std::max(v1, int(i / width));
+  }
+  // The window: the bounds grown by r, clipped to the image.
+  u0 = std::max(u0 - r, 0);
+  v0 = std::max(v0 - r, 0);
+  u1 = std::min(u1 + r, int(width) - 1);
+  v1 = std::min(v1 + r, int(height) - 1);
+  const int w = u1 - u0 + 1, h = v1 - v0 + 1;
+  std::vector<std::uint8_t> in(std::size_t(w) * h, 0), rows(in.size(), 0);
+  for (std::uint32_t i : pixels)
+    in[std::size_t(int(i / width) - v0) * w + (int(i % width) - u0)] = 1;
+  const int full = 2 * r + 1;
+  // Out of one line of n values (stride apart), into `out`: 1 where the count of ones
+  // within r is > 0 (grow) or the whole window (shrink).
+  const auto pass = [&](const std::uint8_t* line, std::uint8_t* out, int n,
+                        std::size_t stride) {
+    int count = 0;
+    for (int k = 0; k < std::min(r, n); ++k)
+      count += line[k * stride];
+    for (int k = 0; k < n; ++k) {
+      if (k + r < n)
+        count += line[(k + r) * stride];
+      if (k - r - 1 >= 0)
+        count -= line[(k - r - 1) * stride];
+      out[k * stride] = radius > 0 ? count > 0 : count == full;
+    }
+  };
+  for (int y = 0; y < h; ++y)
+    pass(&in[std::size_t(y) * w], &rows[std::size_t(y) * w], w, 1);
+  for (int x = 0; x < w; ++x)
+    pass(&rows[x], &in[x], h, std::size_t(w));
+  std::vector<std::uint32_t> out;
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x)
+      if (in[std::size_t(y) * w + x])
+        out.push_back(std::uint32_t(v0 + y) * width + std::uint32_t(u0 + x));
+  return out;
+}
+
 } // namespace
 
 void SimulatedDetector::Config::validate() const
@@ -38,6 +90,8 @@ void SimulatedDetector::Config::validate() const
       << ": expected a value in [0, 1000] per frame";
   else if (!(std::isfinite(box_jitter_px) && box_jitter_px >= 0.0))
     s << "box_jitter_px " << box_jitter_px << ": expected a finite value >= 0";
+  else if (std::abs(mask_dilation_px) > 64)
+    s << "mask_dilation_px " << mask_dilation_px << ": expected pixels in [-64, 64]";
   if (!s.str().empty())
     throw InvalidArgumentError("SimulatedDetector: " + s.str());
 }
@@ -78,6 +132,11 @@ void SimulatedDetector::detect(const CloudXYZL& frame_W, const Roi& truth,
     const double score = rng.uniform(0.5, 1.0);
     if (!detected || pixels.size() < config_.min_pixels)
       continue;
+    if (config_.mask_dilation_px != 0) {
+      pixels = dilated(pixels, width, height, config_.mask_dilation_px);
+      if (pixels.empty())
+        continue; // shrunk to nothing: the segmenter missed it
+    }
     std::uint32_t u0 = width, v0 = height, u1 = 0, v1 = 0;
     for (std::uint32_t i : pixels) {
       u0 = std::min(u0, i % width);

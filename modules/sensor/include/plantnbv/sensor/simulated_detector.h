@@ -11,6 +11,11 @@
 /// min_pixels pixels, it is not detected. Otherwise it is detected with probability
 /// `recall` (score uniform in [0.5, 1]), with its pixels as mask (or none) and their
 /// bounds as box, each box edge moved by N(0, box_jitter_px^2) and clipped to the image.
+/// With mask_dilation_px n != 0 its pixels are first grown (n > 0: every pixel within n
+/// pixels, in both image directions, of one of them) or shrunk (n < 0: those whose
+/// whole (2|n| + 1)^2 square is theirs), as a segmenter's masks overshoot into the
+/// background or miss thin parts; the box follows, and an instance shrunk to nothing is
+/// missed.
 /// `false_positives` per frame on average (the whole part, and one more with the
 /// fraction's probability) are boxes of 8-48 px sides at uniform positions, scores
 /// uniform in [0.5, 1], their masks (if masks are on) the whole box. The draws of frame i
@@ -42,13 +47,14 @@ public:
     double recall = 1.0;          ///< probability that a visible instance is detected
     double false_positives = 0.0; ///< per frame, on average, >= 0
     double box_jitter_px = 0.0;   ///< standard deviation of each box edge's error
+    int mask_dilation_px = 0; ///< grow (> 0) or shrink (< 0) the true pixels, |n| <= 64
     bool masks = true; ///< instance masks (Mask R-CNN-like) or boxes only (YOLO-like)
     std::size_t min_pixels = 10; ///< fewer visible pixels: not detected
     std::uint64_t seed = 0;      ///< frame i draws from deriveSeed(seed, i)
 
     /// \throws InvalidArgumentError naming the first bad field (an empty class, recall
-    /// outside [0, 1], false positives or jitter negative or not finite, or false
-    /// positives over 1000 per frame).
+    /// outside [0, 1], false positives or jitter negative or not finite, false
+    /// positives over 1000 per frame, or a dilation beyond 64 pixels either way).
     void validate() const;
   };
 
