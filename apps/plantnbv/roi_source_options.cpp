@@ -28,6 +28,12 @@ void addRoiSourceOptions(CLI::App& cmd, scenario::RoiSourceOverrides& o,
                  "(default 1)");
   cmd.add_option("--detector-false-positives", o.detector_false_positives,
                  "detections: false detections per frame, on average (default 0)");
+  cmd.add_option("--detector-box-jitter", o.detector_box_jitter_px,
+                 "detections: standard deviation of each box edge's error, pixels "
+                 "(default 0)");
+  cmd.add_option("--detector-mask-dilation", o.detector_mask_dilation_px,
+                 "detections: grow (> 0) or shrink (< 0) the masks by this many pixels "
+                 "(default 0)");
   cmd.add_option("--prior-internode", o.prior_internode_m,
                  "prior: distance between leaf nodes along the stem, metres (default "
                  "0.04)");

@@ -289,8 +289,10 @@ void bindExperiment(py::module_& m)
          std::optional<std::string> roi_source, std::optional<double> roi_sigma,
          std::optional<double> roi_scale, std::optional<double> detector_recall,
          std::optional<double> detector_false_positives,
-         std::optional<double> prior_internode, std::optional<Path> config,
-         std::optional<Path> map_out, const py::object& progress) {
+         std::optional<double> detector_box_jitter,
+         std::optional<int> detector_mask_dilation, std::optional<double> prior_internode,
+         std::optional<Path> config, std::optional<Path> map_out,
+         const py::object& progress) {
         scenario::TrialOverrides o;
         o.config_file = config ? config->string() : "";
         o.pattern = pattern;
@@ -305,12 +307,14 @@ void bindExperiment(py::module_& m)
         o.camera = camera;
         o.noise = noise;
         o.background = background;
-        o.roi = {roi_source,
-                 roi_sigma,
-                 roi_scale,
-                 detector_recall,
-                 detector_false_positives,
-                 prior_internode};
+        o.roi.source = roi_source;
+        o.roi.sigma_m = roi_sigma;
+        o.roi.scale = roi_scale;
+        o.roi.detector_recall = detector_recall;
+        o.roi.detector_false_positives = detector_false_positives;
+        o.roi.detector_box_jitter_px = detector_box_jitter;
+        o.roi.detector_mask_dilation_px = detector_mask_dilation;
+        o.roi.prior_internode_m = prior_internode;
         return runTrial(placed, planner, attention, o, row_spacing_m, map_out, progress);
       },
       "plant"_a, py::kw_only(), "planner"_a = "nbv", "attention"_a = "whole_plant",
@@ -321,6 +325,7 @@ void bindExperiment(py::module_& m)
       "noise"_a = py::none(), "background"_a = py::none(), "roi_source"_a = py::none(),
       "roi_sigma"_a = py::none(), "roi_scale"_a = py::none(),
       "detector_recall"_a = py::none(), "detector_false_positives"_a = py::none(),
+      "detector_box_jitter"_a = py::none(), "detector_mask_dilation"_a = py::none(),
       "prior_internode"_a = py::none(), "config"_a = py::none(), "map_out"_a = py::none(),
       "progress"_a = py::none(),
       "One trial on a PlacedPlant, as `plantnbv reconstruct` runs it (the same seed "
@@ -331,6 +336,7 @@ void bindExperiment(py::module_& m)
       "simulated sensor, as reconstruct's --intrinsics, --noise and --no-background; "
       "`roi_source` 'oracle', 'noisy', 'detections', 'prior' or 'detections+prior', "
       "`roi_sigma` (metres), `roi_scale`, `detector_recall`, `detector_false_positives`, "
+      "`detector_box_jitter` (pixels), `detector_mask_dilation` (pixels), "
       "`prior_internode` (metres): where the attended ROI comes from, as the options of "
       "the same names); `sector_radius_m` and `row_spacing_m` (a neighbour plant this "
       "far on each side; 0: alone) as --sector-radius and --row-spacing; "

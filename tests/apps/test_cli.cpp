@@ -1184,9 +1184,11 @@ TEST_F(RealRobotCliTest, ATrialsDetectionsReplayToItsRoiAndThePlanUsesIt)
 {
   // A trial attending to its simulated detector's finds writes them beside its frames;
   // `integrate --roi-out` fuses them into the boxes the trial attended to at its end.
-  const ToolRun r = run("reconstruct --plant 1 --views 3 --attention leaf_nodes "
-                        "--roi-source detections --detector-recall 0.8 --frames-out " +
-                        path("F") + " -o " + path("D"));
+  const ToolRun r =
+      run("reconstruct --plant 1 --views 3 --attention leaf_nodes "
+          "--roi-source detections --detector-recall 0.8 "
+          "--detector-box-jitter 1 --detector-mask-dilation 1 --frames-out " +
+          path("F") + " -o " + path("D"));
   ASSERT_EQ(r.code, 0) << r.err;
   const plantnbv::io::FramesFolder folder(path("F"));
   ASSERT_EQ(folder.frames().size(), 3u);
@@ -1205,6 +1207,8 @@ TEST_F(RealRobotCliTest, ATrialsDetectionsReplayToItsRoiAndThePlanUsesIt)
   const auto summary = nlohmann::json::parse(slurp(path("D/summary.json")));
   EXPECT_EQ(summary["config"]["roi_source"]["type"], "detections");
   EXPECT_EQ(summary["config"]["roi_source"]["detector_recall"], 0.8);
+  EXPECT_EQ(summary["config"]["roi_source"]["detector_box_jitter"], 1.0);
+  EXPECT_EQ(summary["config"]["roi_source"]["detector_mask_dilation"], 1);
   const auto& attended = summary["attended_roi"];
   ASSERT_GT(attended.size(), 0u);
 

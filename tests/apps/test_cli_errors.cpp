@@ -295,6 +295,13 @@ const std::vector<BadCall> kBadCalls = {
     {"reconstruct --plant 1 --roi-source detections --detector-false-positives -2 -o "
      "{d}/x",
      1, "--detector-false-positives -2: expected a value in [0, 1000] per frame"},
+    {"reconstruct --plant 1 --detector-mask-dilation 2 -o {d}/x", 1,
+     "--detector-mask-dilation 2: only the detections and detections+prior ROI sources "
+     "use it (--roi-source is oracle)"},
+    {"reconstruct --plant 1 --roi-source detections --detector-mask-dilation 65 -o {d}/x",
+     1, "--detector-mask-dilation 65: expected pixels in [-64, 64]"},
+    {"reconstruct --plant 1 --roi-source detections --detector-box-jitter -1 -o {d}/x", 1,
+     "--detector-box-jitter -1: expected a value in [0, 1000] (pixels)"},
     {"plan --map {d}/m.ot --roi-source detections", 1,
      "--roi-source detections: plan attends to an ROI file"},
     {"plan --map {d}/m.ot --roi-source prior", 1,

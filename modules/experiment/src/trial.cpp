@@ -263,6 +263,8 @@ void Trial::run(TrialResult& result)
     detector_config.class_name = roiClassName(attention_);
     detector_config.recall = c.roi_source.detector_recall;
     detector_config.false_positives = c.roi_source.detector_false_positives;
+    detector_config.box_jitter_px = c.roi_source.detector_box_jitter_px;
+    detector_config.mask_dilation_px = c.roi_source.detector_mask_dilation_px;
     detector_config.seed = roiSourceSeed(c.seed);
     detector.setConfig(detector_config);
     DetectionFusion::Config fusion_config;

@@ -139,64 +139,72 @@ CampaignPlanner readPlanner(const YamlReader& r, const YAML::Node& node,
       has_roi_source = true;
     };
   };
-  r.forEach(node, p,
-            {{"type",
-              [&](const YAML::Node& n, const std::string& k) {
-                type = r.read<std::string>(n, k, "nbv, predefined or random");
-                try {
-                  planner.kind = plannerKindFromName(type);
-                } catch (const InvalidArgumentError& e) {
-                  r.fail(k, e.what());
-                }
-              }},
-             {"name",
-              [&](const YAML::Node& n, const std::string& k) {
-                planner.name = r.read<std::string>(n, k, "a name");
-              }},
-             {"attention",
-              [&](const YAML::Node& n, const std::string& k) {
-                // Kept as written: trial files record it so.
-                planner.attention = r.read<std::string>(n, k, "an ROI name or file");
-                try {
-                  attention = Attention::parse(planner.attention);
-                } catch (const InvalidArgumentError& e) {
-                  r.fail(k, e.what());
-                }
-                has_attention = true;
-              }},
-             {"roi_source", roiKey([&](const YAML::Node& n, const std::string& k) {
-                const std::string name = r.read<std::string>(n, k, "an ROI source name");
-                try {
-                  roi_source.kind = roiSourceKindFromName(name);
-                } catch (const InvalidArgumentError& e) {
-                  r.fail(k, e.what());
-                }
-              })},
-             {"roi_sigma", roiKey([&](const YAML::Node& n, const std::string& k) {
-                roi_source.sigma_m = r.read<double>(n, k, "a number (metres)");
-              })},
-             {"roi_scale", roiKey([&](const YAML::Node& n, const std::string& k) {
-                roi_source.scale = r.read<double>(n, k, "a number");
-              })},
-             {"detector_recall", roiKey([&](const YAML::Node& n, const std::string& k) {
-                roi_source.detector_recall = r.read<double>(n, k, "a number in [0, 1]");
-              })},
-             {"detector_false_positives",
-              roiKey([&](const YAML::Node& n, const std::string& k) {
-                roi_source.detector_false_positives =
-                    r.read<double>(n, k, "a number (per frame)");
-              })},
-             {"prior_internode", roiKey([&](const YAML::Node& n, const std::string& k) {
-                roi_source.prior_internode_m = r.read<double>(n, k, "a number (metres)");
-              })},
-             {"patterns", [&](const YAML::Node& n, const std::string& k) {
-                planner.patterns = r.readList<int>(n, k, "patterns 1-4");
-                for (std::size_t i = 0; i < planner.patterns.size(); ++i)
-                  if (planner.patterns[i] < 1 || planner.patterns[i] > 4)
-                    r.fail(YamlReader::index(k, i),
-                           std::to_string(planner.patterns[i]) + " is not a pattern 1-4");
-                has_patterns = true;
-              }}});
+  r.forEach(
+      node, p,
+      {{"type",
+        [&](const YAML::Node& n, const std::string& k) {
+          type = r.read<std::string>(n, k, "nbv, predefined or random");
+          try {
+            planner.kind = plannerKindFromName(type);
+          } catch (const InvalidArgumentError& e) {
+            r.fail(k, e.what());
+          }
+        }},
+       {"name",
+        [&](const YAML::Node& n, const std::string& k) {
+          planner.name = r.read<std::string>(n, k, "a name");
+        }},
+       {"attention",
+        [&](const YAML::Node& n, const std::string& k) {
+          // Kept as written: trial files record it so.
+          planner.attention = r.read<std::string>(n, k, "an ROI name or file");
+          try {
+            attention = Attention::parse(planner.attention);
+          } catch (const InvalidArgumentError& e) {
+            r.fail(k, e.what());
+          }
+          has_attention = true;
+        }},
+       {"roi_source", roiKey([&](const YAML::Node& n, const std::string& k) {
+          const std::string name = r.read<std::string>(n, k, "an ROI source name");
+          try {
+            roi_source.kind = roiSourceKindFromName(name);
+          } catch (const InvalidArgumentError& e) {
+            r.fail(k, e.what());
+          }
+        })},
+       {"roi_sigma", roiKey([&](const YAML::Node& n, const std::string& k) {
+          roi_source.sigma_m = r.read<double>(n, k, "a number (metres)");
+        })},
+       {"roi_scale", roiKey([&](const YAML::Node& n, const std::string& k) {
+          roi_source.scale = r.read<double>(n, k, "a number");
+        })},
+       {"detector_recall", roiKey([&](const YAML::Node& n, const std::string& k) {
+          roi_source.detector_recall = r.read<double>(n, k, "a number in [0, 1]");
+        })},
+       {"detector_false_positives",
+        roiKey([&](const YAML::Node& n, const std::string& k) {
+          roi_source.detector_false_positives =
+              r.read<double>(n, k, "a number (per frame)");
+        })},
+       {"detector_box_jitter", roiKey([&](const YAML::Node& n, const std::string& k) {
+          roi_source.detector_box_jitter_px = r.read<double>(n, k, "pixels");
+        })},
+       {"detector_mask_dilation", roiKey([&](const YAML::Node& n, const std::string& k) {
+          roi_source.detector_mask_dilation_px =
+              r.read<int>(n, k, "whole pixels (< 0: shrink)");
+        })},
+       {"prior_internode", roiKey([&](const YAML::Node& n, const std::string& k) {
+          roi_source.prior_internode_m = r.read<double>(n, k, "a number (metres)");
+        })},
+       {"patterns", [&](const YAML::Node& n, const std::string& k) {
+          planner.patterns = r.readList<int>(n, k, "patterns 1-4");
+          for (std::size_t i = 0; i < planner.patterns.size(); ++i)
+            if (planner.patterns[i] < 1 || planner.patterns[i] > 4)
+              r.fail(YamlReader::index(k, i),
+                     std::to_string(planner.patterns[i]) + " is not a pattern 1-4");
+          has_patterns = true;
+        }}});
   if (type.empty())
     r.fail(p + ".type", "missing (nbv, predefined or random)");
   if (planner.kind == PlannerKind::nbv) {

@@ -113,6 +113,9 @@ void readTrialConfig(const YamlReader& r, const YAML::Node& root, const std::str
        {"detector_recall", into(r, c.roi_source.detector_recall, number)},
        {"detector_false_positives",
         into(r, c.roi_source.detector_false_positives, number)},
+       {"detector_box_jitter", into(r, c.roi_source.detector_box_jitter_px, number)},
+       {"detector_mask_dilation",
+        into(r, c.roi_source.detector_mask_dilation_px, integer)},
        {"prior_internode", into(r, c.roi_source.prior_internode_m, number)},
        {"stop_gain_bits", into(r, c.stop_gain_bits, number)},
        {"explore_share", into(r, c.explore_share, number)},
@@ -189,6 +192,8 @@ std::string trialConfigText(const TrialConfig& c)
     << "roi_scale: " << n(c.roi_source.scale) << "\n"
     << "detector_recall: " << n(c.roi_source.detector_recall) << "\n"
     << "detector_false_positives: " << n(c.roi_source.detector_false_positives) << "\n"
+    << "detector_box_jitter: " << n(c.roi_source.detector_box_jitter_px) << "\n"
+    << "detector_mask_dilation: " << c.roi_source.detector_mask_dilation_px << "\n"
     << "prior_internode: " << n(c.roi_source.prior_internode_m) << "\n"
     << "stop_gain_bits: " << n(c.stop_gain_bits) << "\n"
     << "explore_share: " << n(c.explore_share) << "\n"

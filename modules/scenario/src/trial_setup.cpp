@@ -54,6 +54,10 @@ std::string nbvPlannerName(const Attention& attention, const RoiSource& source)
       s << "-recall" << source.detector_recall;
     if (source.detector_false_positives != 0.0)
       s << "-fp" << source.detector_false_positives;
+    if (source.detector_box_jitter_px != 0.0)
+      s << "-jitter" << source.detector_box_jitter_px << "px";
+    if (source.detector_mask_dilation_px != 0)
+      s << "-dilation" << source.detector_mask_dilation_px << "px";
     if (source.prior_internode_m != RoiSource().prior_internode_m)
       s << "-internode" << source.prior_internode_m * 1000.0 << "mm";
   }
@@ -140,6 +144,8 @@ void RoiSourceOverrides::applyTo(RoiSource& roi, const std::string& option_prefi
     if (!roi.detects()) {
       roi.detector_recall = defaults.detector_recall;
       roi.detector_false_positives = defaults.detector_false_positives;
+      roi.detector_box_jitter_px = defaults.detector_box_jitter_px;
+      roi.detector_mask_dilation_px = defaults.detector_mask_dilation_px;
     }
     if (!roi.predicts())
       roi.prior_internode_m = defaults.prior_internode_m;
@@ -152,6 +158,10 @@ void RoiSourceOverrides::applyTo(RoiSource& roi, const std::string& option_prefi
     roi.detector_recall = *detector_recall;
   if (detector_false_positives)
     roi.detector_false_positives = *detector_false_positives;
+  if (detector_box_jitter_px)
+    roi.detector_box_jitter_px = *detector_box_jitter_px;
+  if (detector_mask_dilation_px)
+    roi.detector_mask_dilation_px = *detector_mask_dilation_px;
   if (prior_internode_m)
     roi.prior_internode_m = *prior_internode_m;
   roi.validate(option_prefix);

@@ -66,6 +66,13 @@ void RoiSource::validate(const std::string& option_prefix) const
              detector_false_positives <= 1000.0))
     s << key("detector_false_positives") << " " << shortest(detector_false_positives)
       << ": expected a value in [0, 1000] per frame";
+  else if (!(std::isfinite(detector_box_jitter_px) && detector_box_jitter_px >= 0.0 &&
+             detector_box_jitter_px <= 1000.0))
+    s << key("detector_box_jitter") << " " << shortest(detector_box_jitter_px)
+      << ": expected a value in [0, 1000] (pixels)";
+  else if (std::abs(detector_mask_dilation_px) > 64)
+    s << key("detector_mask_dilation") << " " << detector_mask_dilation_px
+      << ": expected pixels in [-64, 64]";
   else if (!(std::isfinite(prior_internode_m) && prior_internode_m > 0.0))
     s << key("prior_internode") << " " << shortest(prior_internode_m)
       << ": expected a finite value > 0 (metres)";
@@ -77,6 +84,12 @@ void RoiSource::validate(const std::string& option_prefix) const
     onlyFor(s, "detector_recall", detector_recall, "detections and detections+prior");
   else if (!detects() && detector_false_positives != 0.0)
     onlyFor(s, "detector_false_positives", detector_false_positives,
+            "detections and detections+prior");
+  else if (!detects() && detector_box_jitter_px != 0.0)
+    onlyFor(s, "detector_box_jitter", detector_box_jitter_px,
+            "detections and detections+prior");
+  else if (!detects() && detector_mask_dilation_px != 0)
+    onlyFor(s, "detector_mask_dilation", detector_mask_dilation_px,
             "detections and detections+prior");
   else if (!predicts() && prior_internode_m != RoiSource().prior_internode_m)
     onlyFor(s, "prior_internode", prior_internode_m, "prior and detections+prior");

@@ -43,6 +43,11 @@ struct RoiSource {
   double detector_recall = 1.0;
   /// detections, in trials: the simulated detector's false positives per frame.
   double detector_false_positives = 0.0;
+  /// detections, in trials: the standard deviation of each box edge's error (pixels).
+  double detector_box_jitter_px = 0.0;
+  /// detections, in trials: the masks grown (> 0) or shrunk (< 0) by this many pixels
+  /// (SimulatedDetector::Config::mask_dilation_px), in [-64, 64].
+  int detector_mask_dilation_px = 0;
   /// prior: the distance between successive leaf nodes along the stem (metres;
   /// LeafNodePrior's default, from the generator's plants).
   double prior_internode_m = 0.04;
