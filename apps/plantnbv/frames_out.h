@@ -4,23 +4,15 @@
 
 #include <filesystem>
 #include <optional>
-#include <sstream>
 #include <string>
 
 #include <plantnbv/camera/camera_intrinsics.h>
 #include <plantnbv/common/error.h>
+#include <plantnbv/common/number_text.h>
 #include <plantnbv/io/frames_folder.h>
 
 namespace plantnbv {
 namespace app {
-
-/// A number as a user typed it ("1000", "0.5"), for messages.
-inline std::string numberText(double value)
-{
-  std::ostringstream s;
-  s << value;
-  return s.str();
-}
 
 /// The camera that frames of `intrinsics` get in `folder`: the depth scale given, else
 /// that of the folder's camera.yaml, else 1000 (millimetres).
@@ -37,7 +29,7 @@ inline io::CameraInfo framesCamera(const std::string& folder,
   else if (std::filesystem::exists(yaml, ec))
     camera.depth_scale = io::readCameraInfo(yaml).depth_scale;
   if (!(camera.depth_scale > 0.0))
-    throw InvalidArgumentError("--depth-scale " + numberText(camera.depth_scale) +
+    throw InvalidArgumentError("--depth-scale " + shortestText(camera.depth_scale) +
                                ": expected units per metre > 0 (1000: millimetres)");
   return camera;
 }

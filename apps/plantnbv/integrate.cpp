@@ -121,7 +121,7 @@ void runIntegrate(const IntegrateOptions& o)
   folder_options.skip_unmatched = o.skip_unmatched;
   if (o.depth_scale) {
     if (!(*o.depth_scale > 0.0))
-      throw InvalidArgumentError("--depth-scale " + numberText(*o.depth_scale) +
+      throw InvalidArgumentError("--depth-scale " + shortestText(*o.depth_scale) +
                                  ": expected units per metre > 0 (1000: millimetres)");
     folder_options.depth_scale = *o.depth_scale;
   }

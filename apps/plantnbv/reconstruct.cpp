@@ -2,7 +2,6 @@
 // the view budget), scored after every view; writes steps.csv, summary.json, the map and
 // the reconstruction.
 
-#include <charconv>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -18,6 +17,7 @@
 
 #include <plantnbv/common/error.h>
 #include <plantnbv/common/file_io.h>
+#include <plantnbv/common/number_text.h>
 #include <plantnbv/common/roi_kind.h>
 #include <plantnbv/experiment/trial.h>
 #include <plantnbv/io/cloud_io.h>
@@ -70,11 +70,7 @@ TrialConfig trialConfig(const ReconstructOptions& o, const PlacedPlant& placed)
 
 std::string csvNumber(double x)
 {
-  if (std::isnan(x))
-    return "";
-  char buffer[32]; // the shortest text that reads back to the same double
-  const auto end = std::to_chars(buffer, buffer + sizeof(buffer), x).ptr;
-  return std::string(buffer, end);
+  return std::isnan(x) ? std::string() : shortestText(x);
 }
 
 void writeSteps(const std::filesystem::path& path, const TrialResult& r)

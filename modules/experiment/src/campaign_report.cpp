@@ -1,5 +1,4 @@
 #include <algorithm>
-#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -10,6 +9,7 @@
 
 #include <plantnbv/common/error.h>
 #include <plantnbv/common/file_io.h>
+#include <plantnbv/common/number_text.h>
 #include <plantnbv/experiment/campaign_report.h>
 #include <plantnbv/metrics/reconstruction_metrics.h>
 
@@ -37,11 +37,7 @@ double metric(const LevelScore& s, int m)
 
 std::string csvNumber(double x)
 {
-  if (!std::isfinite(x))
-    return "";
-  char buffer[32];
-  const auto end = std::to_chars(buffer, buffer + sizeof(buffer), x).ptr;
-  return std::string(buffer, end);
+  return std::isfinite(x) ? shortestText(x) : std::string();
 }
 
 /// A group of trials compared with each other: a study variant's planner.

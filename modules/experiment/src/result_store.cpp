@@ -12,6 +12,7 @@
 
 #include <plantnbv/common/error.h>
 #include <plantnbv/common/file_io.h>
+#include <plantnbv/common/number_text.h>
 #include <plantnbv/experiment/result_store.h>
 
 namespace plantnbv {
@@ -24,11 +25,7 @@ using nlohmann::json;
 /// and infinities (JSON has none).
 std::string number(double x)
 {
-  if (!std::isfinite(x))
-    return "null";
-  char buffer[32];
-  const auto end = std::to_chars(buffer, buffer + sizeof(buffer), x).ptr;
-  return std::string(buffer, end);
+  return std::isfinite(x) ? shortestText(x) : "null";
 }
 
 json finite(double x)

@@ -18,6 +18,7 @@
 #include <pcl/point_types.h>
 
 #include <plantnbv/common/error.h>
+#include <plantnbv/common/number_text.h>
 #include <plantnbv/io/cloud_io.h>
 #include <plantnbv/io/file_kind.h>
 
@@ -79,7 +80,7 @@ public:
     if constexpr (std::is_same_v<PointT, pcl::PointXYZL>) {
       if (!(v.label >= 0.0 && v.label <= 4294967295.0 && v.label == std::floor(v.label)))
         throw FormatError(detail::where(path_) + "point " + std::to_string(i) +
-                          " has label " + detail::numberText(v.label) +
+                          " has label " + shortestText(v.label) +
                           ", expected a non-negative whole number");
       q.label = static_cast<std::uint32_t>(v.label);
     }
@@ -103,10 +104,10 @@ using ValueDecoder = double (*)(const std::uint8_t*);
 
 struct PcdField {
   std::string name;
-  char type = 'F';          ///< I (signed), U (unsigned) or F (floating point)
-  std::uint64_t size = 4;   ///< bytes of one value: 1, 2, 4 or 8 (F: 4 or 8)
-  std::uint64_t count = 1;  ///< values per point
-  std::uint64_t offset = 0; ///< bytes from the start of a point record
+  char type = 'F';               ///< I (signed), U (unsigned) or F (floating point)
+  std::uint64_t size = 4;        ///< bytes of one value: 1, 2, 4 or 8 (F: 4 or 8)
+  std::uint64_t count = 1;       ///< values per point
+  std::uint64_t offset = 0;      ///< bytes from the start of a point record
   ValueDecoder decode = nullptr; ///< chosen once per file (decoderOf)
 };
 

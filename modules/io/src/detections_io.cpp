@@ -9,6 +9,7 @@
 
 #include <plantnbv/common/error.h>
 #include <plantnbv/common/file_io.h>
+#include <plantnbv/common/number_text.h>
 #include <plantnbv/io/depth_image_io.h>
 #include <plantnbv/io/detections_io.h>
 
@@ -82,8 +83,8 @@ std::string describe(const json& v)
 
 std::string boxText(const Eigen::Vector4d& b)
 {
-  return "[" + detail::numberText(b[0]) + ", " + detail::numberText(b[1]) + ", " +
-         detail::numberText(b[2]) + ", " + detail::numberText(b[3]) + "]";
+  return "[" + shortestText(b[0]) + ", " + shortestText(b[1]) + ", " +
+         shortestText(b[2]) + ", " + shortestText(b[3]) + "]";
 }
 
 /// Why a score is refused ("1.5 is not in [0, 1]"), empty if it is not.
@@ -91,7 +92,7 @@ std::string scoreProblem(double score)
 {
   if (score >= 0.0 && score <= 1.0)
     return "";
-  return detail::numberText(score) + " is not in [0, 1]";
+  return shortestText(score) + " is not in [0, 1]";
 }
 
 /// Why a box is refused for a width x height image, empty if it is not.
@@ -101,11 +102,11 @@ std::string boxProblem(const Eigen::Vector4d& b, std::uint32_t width,
   if (!b.allFinite())
     return boxText(b) + " has a non-finite number";
   if (b[0] > b[2])
-    return boxText(b) + ": u0 " + detail::numberText(b[0]) + " > u1 " +
-           detail::numberText(b[2]) + " (expected [u0, v0, u1, v1], u0 <= u1)";
+    return boxText(b) + ": u0 " + shortestText(b[0]) + " > u1 " + shortestText(b[2]) +
+           " (expected [u0, v0, u1, v1], u0 <= u1)";
   if (b[1] > b[3])
-    return boxText(b) + ": v0 " + detail::numberText(b[1]) + " > v1 " +
-           detail::numberText(b[3]) + " (expected [u0, v0, u1, v1], v0 <= v1)";
+    return boxText(b) + ": v0 " + shortestText(b[1]) + " > v1 " + shortestText(b[3]) +
+           " (expected [u0, v0, u1, v1], v0 <= v1)";
   if (b[0] < 0.0 || b[1] < 0.0 || b[2] > width || b[3] > height)
     return boxText(b) + " is outside the " + std::to_string(width) + "x" +
            std::to_string(height) +

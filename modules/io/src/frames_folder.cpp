@@ -12,6 +12,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include <plantnbv/common/error.h>
+#include <plantnbv/common/number_text.h>
 #include <plantnbv/io/depth_image_io.h>
 #include <plantnbv/io/frames_folder.h>
 #include <plantnbv/io/yaml_reader.h>
@@ -322,7 +323,7 @@ std::vector<StampedPose> readTumTrajectory(const std::string& path)
     if (!(std::abs(norm - 1.0) <= kQuaternionNormTolerance))
       failLine(path, line,
                "quaternion (" + fields[4] + ", " + fields[5] + ", " + fields[6] + ", " +
-                   fields[7] + ") has norm " + detail::numberText(norm) +
+                   fields[7] + ") has norm " + shortestText(norm) +
                    ", expected a unit quaternion (within 1e-3)");
     StampedPose p;
     p.stamp_s = v[0];
@@ -359,7 +360,7 @@ FramesFolder::FramesFolder(const std::string& folder, const FramesFolderOptions&
   if (options.depth_scale != 0.0) {
     if (!(options.depth_scale > 0.0) || !std::isfinite(options.depth_scale))
       throw InvalidArgumentError("depth scale must be > 0 units per metre, got " +
-                                 detail::numberText(options.depth_scale));
+                                 shortestText(options.depth_scale));
     camera_.depth_scale = options.depth_scale;
   }
   const std::string list_path = (dir / "depth.txt").string();
@@ -425,7 +426,7 @@ FramesFolder::FramesFolder(const std::string& folder, const FramesFolderOptions&
   if (frames_.empty())
     throw FormatError(inQuotes(list_path) + ": none of its " +
                       std::to_string(files.size()) + " frames has a pose within " +
-                      detail::numberText(options.max_pose_dt_s) + " s in " +
+                      shortestText(options.max_pose_dt_s) + " s in " +
                       inQuotes(poses_path));
 }
 
@@ -455,7 +456,7 @@ FramesFolderWriter::FramesFolderWriter(const std::string& folder,
   camera_.intrinsics.validate();
   if (!(camera_.depth_scale > 0.0) || !std::isfinite(camera_.depth_scale))
     throw InvalidArgumentError("depth scale must be > 0 units per metre, got " +
-                               detail::numberText(camera_.depth_scale));
+                               shortestText(camera_.depth_scale));
   const fs::path dir(folder);
   std::error_code ec;
   fs::create_directories(dir / "depth", ec);
@@ -470,7 +471,7 @@ FramesFolderWriter::FramesFolderWriter(const std::string& folder,
         a.cx != b.cx || a.cy != b.cy || there.depth_scale != camera_.depth_scale)
       throw FormatError(inQuotes(camera_path) + " describes another camera (" +
                         a.toString() + ", depth_scale " +
-                        detail::numberText(there.depth_scale) +
+                        shortestText(there.depth_scale) +
                         "): write these frames to a new folder");
   } else {
     writeCameraInfo(camera_path, camera_);

@@ -1,6 +1,5 @@
 #include "io_util.h"
 
-#include <charconv>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -62,13 +61,6 @@ bool readHeaderLine(const std::string& path, std::istream& in, std::string& line
   if (!line.empty() && line.back() == '\r')
     line.pop_back();
   return any;
-}
-
-std::string numberText(double v)
-{
-  char buf[32];
-  const auto r = std::to_chars(buf, buf + sizeof(buf), v);
-  return std::string(buf, r.ptr);
 }
 
 bool hostIsLittleEndian()

@@ -79,11 +79,6 @@ TriangleMesh readPlyMesh(const std::string& path, const InputLimits& limits);
 /// Our VRML97 reader (vrml_import.cpp): geometry in file units and axes (Y up).
 TriangleMesh readVrml(const std::string& path, const InputLimits& limits);
 
-/// A number read from a file, for messages: the shortest text that reads back as it
-/// (whole numbers without a fraction). Unlike a cast to an integer, defined for any
-/// value (1e300, NaN).
-std::string numberText(double v);
-
 /// The "path: " prefix of every message about a file.
 inline std::string where(const std::string& path)
 {

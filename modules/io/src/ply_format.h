@@ -13,6 +13,7 @@
 #include <vector>
 
 #include <plantnbv/common/error.h>
+#include <plantnbv/common/number_text.h>
 
 #include "io_util.h"
 
@@ -127,7 +128,7 @@ public:
     const double n = read(t, what);
     if (!(n >= 0.0 && n <= 4294967295.0 && n == std::floor(n)))
       throw FormatError(detail::where(path_) + what + ": invalid list length " +
-                        detail::numberText(n));
+                        shortestText(n));
     return static_cast<std::uint64_t>(n);
   }
 

@@ -3,7 +3,6 @@
 // file once and keeps the face `label`.
 
 #include <algorithm>
-#include <charconv>
 #include <cmath>
 #include <cstring>
 #include <fstream>
@@ -11,6 +10,7 @@
 #include <vector>
 
 #include <plantnbv/common/error.h>
+#include <plantnbv/common/number_text.h>
 #include <plantnbv/io/mesh_io.h>
 
 #include "io_util.h"
@@ -114,7 +114,7 @@ void readFaces(const std::string& path, const PlyElement& e, PlyBody& body,
         const double l = body.read(p.type, "face data");
         if (l < 0 || l > kMaxPartLabel)
           throw FormatError(detail::where(path) + "face " + std::to_string(f) +
-                            ": label " + detail::numberText(l) +
+                            ": label " + shortestText(l) +
                             " is not a part label (expected 0.." +
                             std::to_string(kMaxPartLabel) + ")");
         face_label = static_cast<std::uint32_t>(l);
@@ -133,7 +133,7 @@ void readFaces(const std::string& path, const PlyElement& e, PlyBody& body,
           const double idx = body.read(p.type, "face data");
           if (idx < 0 || idx > std::numeric_limits<std::uint32_t>::max())
             throw FormatError(detail::where(path) + "face " + std::to_string(f) +
-                              ": invalid vertex index " + detail::numberText(idx));
+                              ": invalid vertex index " + shortestText(idx));
           const auto current = static_cast<std::uint32_t>(idx);
           if (n > 3)
             polygons.corners.push_back(current);

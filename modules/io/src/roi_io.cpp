@@ -1,12 +1,11 @@
 #include <algorithm>
-#include <array>
 #include <cctype>
-#include <charconv>
 #include <cmath>
 #include <fstream>
 #include <sstream>
 
 #include <plantnbv/common/error.h>
+#include <plantnbv/common/number_text.h>
 #include <plantnbv/io/roi_io.h>
 #include <plantnbv/io/yaml_reader.h>
 
@@ -105,14 +104,6 @@ Box readBox(const YamlReader& r, const YAML::Node& node, const std::string& path
   return min_max ? readMinMaxBox(r, node, path) : readCenterSizeBox(r, node, path);
 }
 
-/// The shortest decimal text that reads back as exactly `v` (at most 17 digits).
-std::string exactNumber(double v)
-{
-  std::array<char, 32> buf{};
-  const auto result = std::to_chars(buf.data(), buf.data() + buf.size(), v);
-  return std::string(buf.data(), result.ptr);
-}
-
 /// A name as a YAML scalar: plain when it cannot be misread, double-quoted otherwise.
 std::string yamlString(const std::string& s)
 {
@@ -148,8 +139,8 @@ std::string yamlString(const std::string& s)
 
 std::string yamlVector(const Eigen::Vector3d& v)
 {
-  return "[" + exactNumber(v.x()) + ", " + exactNumber(v.y()) + ", " +
-         exactNumber(v.z()) + "]";
+  return "[" + shortestText(v.x()) + ", " + shortestText(v.y()) + ", " +
+         shortestText(v.z()) + "]";
 }
 
 Roi parseRoi(const std::string& path, const std::string& text)

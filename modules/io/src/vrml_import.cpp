@@ -26,6 +26,7 @@
 #include <Eigen/Geometry>
 
 #include <plantnbv/common/error.h>
+#include <plantnbv/common/number_text.h>
 
 #include "io_util.h"
 #include "polygon_triangulation.h"
@@ -675,7 +676,7 @@ private:
       }
       if (v < 0 || v >= static_cast<double>(count) || v != std::floor(v))
         throw FormatError(detail::where(path_) + "line " + std::to_string(index->line) +
-                          ": coordIndex " + detail::numberText(v) + " is out of range (" +
+                          ": coordIndex " + shortestText(v) + " is out of range (" +
                           std::to_string(count) + " points)");
       const std::uint64_t max = limits_.max_triangles;
       if (max > 0 && corners.size() > max + 2)

@@ -1,9 +1,9 @@
-#include <charconv>
 #include <cmath>
 #include <sstream>
 #include <vector>
 
 #include <plantnbv/common/error.h>
+#include <plantnbv/common/number_text.h>
 #include <plantnbv/io/yaml_reader.h>
 #include <plantnbv/scenario/trial_config_file.h>
 
@@ -59,13 +59,6 @@ void readInitialView(const YamlReader& r, const YAML::Node& node, const std::str
   }
 }
 
-/// The shortest text that reads back to `x` ("0.4", not "0.40000000000000002").
-std::string shortest(double x)
-{
-  char buffer[32];
-  return std::string(buffer, std::to_chars(buffer, buffer + sizeof(buffer), x).ptr);
-}
-
 bool sameCamera(const CameraIntrinsics& a, const CameraIntrinsics& b)
 {
   return a.width == b.width && a.height == b.height && a.fx == b.fx && a.fy == b.fy &&
@@ -79,8 +72,8 @@ std::string cameraSpec(const CameraIntrinsics& camera)
     if (sameCamera(camera, parseCameraIntrinsics(preset)))
       return preset;
   return std::to_string(camera.width) + "x" + std::to_string(camera.height) + ":" +
-         shortest(camera.fx) + "," + shortest(camera.fy) + "," + shortest(camera.cx) +
-         "," + shortest(camera.cy);
+         shortestText(camera.fx) + "," + shortestText(camera.fy) + "," +
+         shortestText(camera.cx) + "," + shortestText(camera.cy);
 }
 
 const char* boolText(bool b)
@@ -175,7 +168,7 @@ void readTrialConfig(const YamlReader& r, const YAML::Node& root, const std::str
 
 std::string trialConfigText(const TrialConfig& c)
 {
-  const auto n = &shortest;
+  const auto n = &shortestText;
   const Eigen::Vector3d& p = c.initial_view.position;
   const Eigen::Quaterniond& q = c.initial_view.orientation;
   const OccupancyMap::Config& m = c.map;

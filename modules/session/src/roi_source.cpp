@@ -1,22 +1,15 @@
 #include <algorithm>
-#include <charconv>
 #include <cmath>
 #include <sstream>
 
 #include <plantnbv/common/error.h>
+#include <plantnbv/common/number_text.h>
 #include <plantnbv/common/random.h>
 #include <plantnbv/session/roi_source.h>
 
 namespace plantnbv {
 
 namespace {
-
-/// The shortest text that reads back to `x` ("0.05", not "0.050000000000000003").
-std::string shortest(double x)
-{
-  char buffer[32];
-  return std::string(buffer, std::to_chars(buffer, buffer + sizeof(buffer), x).ptr);
-}
 
 constexpr const char* kRoiSourceNames[] = {"oracle", "noisy", "detections", "prior",
                                            "detections+prior"};
@@ -49,32 +42,34 @@ void RoiSource::validate(const std::string& option_prefix) const
   // A value that only the `owners` sources use, set with another source.
   auto onlyFor = [&](std::ostringstream& s, const char* name, double value,
                      const char* owners) {
-    s << key(name) << " " << shortest(value) << ": only the " << owners << " ROI source"
+    s << key(name) << " " << shortestText(value) << ": only the " << owners
+      << " ROI source"
       << (std::string(owners).find(" and ") == std::string::npos ? " uses" : "s use")
       << " it (" << key("roi_source") << " is " << roiSourceKindName(kind) << ")";
   };
   std::ostringstream s;
   if (!(std::isfinite(sigma_m) && sigma_m >= 0.0))
-    s << key("roi_sigma") << " " << shortest(sigma_m)
+    s << key("roi_sigma") << " " << shortestText(sigma_m)
       << ": expected a finite value >= 0 (metres)";
   else if (!(std::isfinite(scale) && scale > 0.0))
-    s << key("roi_scale") << " " << shortest(scale) << ": expected a finite value > 0";
+    s << key("roi_scale") << " " << shortestText(scale)
+      << ": expected a finite value > 0";
   else if (!(detector_recall >= 0.0 && detector_recall <= 1.0))
-    s << key("detector_recall") << " " << shortest(detector_recall)
+    s << key("detector_recall") << " " << shortestText(detector_recall)
       << ": expected a value in [0, 1]";
   else if (!(std::isfinite(detector_false_positives) && detector_false_positives >= 0.0 &&
              detector_false_positives <= 1000.0))
-    s << key("detector_false_positives") << " " << shortest(detector_false_positives)
+    s << key("detector_false_positives") << " " << shortestText(detector_false_positives)
       << ": expected a value in [0, 1000] per frame";
   else if (!(std::isfinite(detector_box_jitter_px) && detector_box_jitter_px >= 0.0 &&
              detector_box_jitter_px <= 1000.0))
-    s << key("detector_box_jitter") << " " << shortest(detector_box_jitter_px)
+    s << key("detector_box_jitter") << " " << shortestText(detector_box_jitter_px)
       << ": expected a value in [0, 1000] (pixels)";
   else if (std::abs(detector_mask_dilation_px) > 64)
     s << key("detector_mask_dilation") << " " << detector_mask_dilation_px
       << ": expected pixels in [-64, 64]";
   else if (!(std::isfinite(prior_internode_m) && prior_internode_m > 0.0))
-    s << key("prior_internode") << " " << shortest(prior_internode_m)
+    s << key("prior_internode") << " " << shortestText(prior_internode_m)
       << ": expected a finite value > 0 (metres)";
   else if (kind != RoiSourceKind::noisy && sigma_m != 0.0)
     onlyFor(s, "roi_sigma", sigma_m, "noisy");
