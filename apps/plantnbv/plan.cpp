@@ -12,6 +12,8 @@
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 #include <octomap/OcTree.h>
+#include <pcl/point_cloud.h>
+#include <pcl/point_types.h>
 
 #include <plantnbv/camera/optical_frame.h>
 #include <plantnbv/common/error.h>
@@ -21,10 +23,12 @@
 #include <plantnbv/io/file_kind.h>
 #include <plantnbv/io/frames_folder.h>
 #include <plantnbv/io/roi_io.h>
+#include <plantnbv/octree/occupancy_map.h>
 #include <plantnbv/plant/plant_rois.h>
 #include <plantnbv/scenario/trial_config_file.h>
 #include <plantnbv/scenario/trial_setup.h>
 #include <plantnbv/session/active_vision_session.h>
+#include <plantnbv/session/leaf_node_prior.h>
 
 #include "cli_checks.h"
 #include "commands.h"
@@ -38,7 +42,7 @@ namespace {
 
 struct PlanOptions {
   std::string map;
-  std::string roi = "whole_plant";
+  std::optional<std::string> roi; ///< default: whole_plant
   std::string config_file;
   std::vector<double> sector_base;
   std::optional<double> sector_radius;
@@ -86,6 +90,44 @@ Roi planRoi(const std::string& spec, const Eigen::Vector3d& axis_base)
         "give them as an ROI file (YAML boxes, docs/real-robot.md), or whole_plant / "
         "main_stem for the boxes on the sector's axis");
   }
+}
+
+/// The --roi boxes the ROI source starts from, checked against the source before the map
+/// is read: detections and detections+prior need a file of detections' boxes, and the
+/// prior alone takes none.
+Roi givenRoi(const PlanOptions& o, const RoiSource& source,
+             const Eigen::Vector3d& axis_base)
+{
+  const std::string option =
+      std::string("--roi-source ") + roiSourceKindName(source.kind);
+  if (source.kind == RoiSourceKind::prior && o.roi)
+    throw InvalidArgumentError(
+        option + ": the prior predicts the ROI from the map, --roi " + *o.roi +
+        " is not used (detections+prior adds a --roi file of "
+        "detections to the prediction)");
+  const Roi given = planRoi(o.roi.value_or("whole_plant"), axis_base);
+  if (source.detects() && (!o.roi || scenario::Attention::parse(*o.roi).kind))
+    throw InvalidArgumentError(option +
+                               ": give the detections' 3D boxes as --roi FILE "
+                               "(`plantnbv integrate FRAMES --roi-out ROI.yaml` fuses a "
+                               "frames folder's)");
+  return source.kind == RoiSourceKind::prior ? Roi() : given;
+}
+
+/// The attended ROI: oracle and noisy take the given boxes (the noisy draw seeded by
+/// --seed); detections takes them as they are; prior predicts leaf nodes along the stem
+/// in the map, and detections+prior adds the given boxes to that prediction.
+Roi attendedRoi(const Roi& given, const TrialConfig& config, const OccupancyMap& map)
+{
+  const RoiSource& source = config.roi_source;
+  if (!source.predicts())
+    return source.kind == RoiSourceKind::detections
+               ? given
+               : source.apply(given, roiSourceSeed(config.seed));
+  CloudXYZ occupied_W;
+  map.getOccupiedVoxelCentres(occupied_W);
+  return LeafNodePrior(source.priorConfig())
+      .predictAround(given, occupied_W, config.sector.axis_base, config.sector.height_m);
 }
 
 Pose parsePose(const std::vector<double>& v, const char* what)
@@ -172,13 +214,7 @@ void runPlan(const PlanOptions& o)
   if (!o.current_pose.empty())
     current = parsePose(o.current_pose, "--current-pose");
   o.roi_source.applyTo(config.roi_source, "--");
-  if (config.roi_source.followsFrames())
-    throw InvalidArgumentError(
-        std::string("--roi-source ") + roiSourceKindName(config.roi_source.kind) +
-        ": plan attends to an ROI file; `plantnbv integrate FRAMES --roi-out ROI.yaml` "
-        "fuses a frames folder's detections into one");
-  const Roi roi = config.roi_source.apply(planRoi(o.roi, sector.axis_base),
-                                          roiSourceSeed(config.seed));
+  const Roi given = givenRoi(o, config.roi_source, sector.axis_base);
 
   ActiveVisionSession session(sessionConfigOf(config));
   session.setCamera(camera);
@@ -198,7 +234,6 @@ void runPlan(const PlanOptions& o)
       for (const io::StampedPose& p : io::readTumTrajectory(o.visited))
         nbv->addVisitedPosition(p.pose.position);
   }
-  session.setRoi(roi);
   Stopwatch read_clock;
   const bool has_probabilities = session.readMap(o.map);
   const double read_ms = read_clock.ms();
@@ -206,6 +241,8 @@ void runPlan(const PlanOptions& o)
     std::cerr << "warning: '" << o.map
               << "' is a .bt map (occupied / free only): the planner sees no uncertainty "
                  "in it; `plantnbv integrate` writes .ot maps that keep it\n";
+  const Roi roi = attendedRoi(given, config, *session.getMap());
+  session.setRoi(roi);
   const bool meets = roiMeetsMap(roi, *session.getMap());
 
   NextBestView next;
@@ -215,6 +252,9 @@ void runPlan(const PlanOptions& o)
     throw Error("--map '" + o.map + "': " + e.what());
   }
   const NextViewResult& r = next.result;
+  const std::string roi_name = config.roi_source.kind == RoiSourceKind::prior
+                                   ? "prior"
+                                   : o.roi.value_or("whole_plant");
   bool all_zero = true;
   for (const RankedView& v : next.ranking)
     all_zero = all_zero && v.gain.gain == 0.0;
@@ -236,8 +276,9 @@ void runPlan(const PlanOptions& o)
   if (o.json) {
     nlohmann::json j;
     j["map"] = o.map;
-    j["roi"] = o.roi;
+    j["roi"] = roi_name;
     j["roi_source"] = roiSourceKindName(config.roi_source.kind);
+    j["attended_roi"] = roiBoxesJson(roi);
     j["roi_meets_map"] = meets;
     j["all_gains_zero"] = all_zero;
     j["best"] = viewJson(next.ranking.front());
@@ -265,7 +306,7 @@ void runPlan(const PlanOptions& o)
   };
   std::cout << "map '" << o.map << "' ("
             << session.getMap()->getConfig().resolution_m * 1000.0 << " mm, read in "
-            << std::fixed << std::setprecision(1) << read_ms << " ms), ROI " << o.roi
+            << std::fixed << std::setprecision(1) << read_ms << " ms), ROI " << roi_name
             << " (" << roi.boxes().size() << " boxes), " << r.candidates.size()
             << " candidates, planned in " << r.total_ms << " ms (snapshot " << r.update_ms
             << " ms)\n";
@@ -302,8 +343,7 @@ void addPlanCommand(CLI::App& app)
   cmd->add_option("--map", o->map, "Map (.ot from `plantnbv integrate`)")->required();
   cmd->add_option("--roi", o->roi,
                   "ROI file (YAML boxes, world frame), or whole_plant / main_stem: the "
-                  "paper's box on the sector's axis")
-      ->capture_default_str();
+                  "paper's box on the sector's axis (default whole_plant)");
   cmd->add_option("--config", o->config_file,
                   "Trial config (YAML, e.g. data/paper.yaml): map, sector, gain");
   cmd->add_option("--sector-base", o->sector_base,
@@ -339,7 +379,7 @@ void addPlanCommand(CLI::App& app)
       ->check(unsignedInteger());
   cmd->add_option("--threads", o->threads, "Threads (default: all cores)")
       ->transform(threadCount("--threads"));
-  addRoiSourceOptions(*cmd, o->roi_source, "--seed", false);
+  addRoiSourceOptions(*cmd, o->roi_source, "--seed", RoiSourceInput::roi_file);
   cmd->add_flag("--json", o->json, "One JSON object: best, candidates, timings");
   cmd->add_flag("--pose-only", o->pose_only,
                 "Print only the best optical pose x,y,z,qx,qy,qz,qw (for scripts)")

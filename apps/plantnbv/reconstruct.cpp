@@ -192,12 +192,7 @@ nlohmann::json summaryJson(const ReconstructOptions& o, const PlacedPlant& place
                                       {"reference_voxels", o.reference_points}};
   j["organs"] = organs;
   // The boxes the planner attended to (the ROI source's output), beside the true ones.
-  nlohmann::json attended = nlohmann::json::array();
-  for (const Box& b : trial.getAttendedRoi().boxes())
-    attended.push_back({{"name", b.name},
-                        {"center", {b.center.x(), b.center.y(), b.center.z()}},
-                        {"size", {b.size.x(), b.size.y(), b.size.z()}}});
-  j["attended_roi"] = attended;
+  j["attended_roi"] = roiBoxesJson(trial.getAttendedRoi());
   double plan = 0, capture = 0, insert = 0, eval = 0;
   for (const TrialStep& s : r.steps) {
     plan += s.plan_ms;
@@ -439,7 +434,7 @@ void addReconstructCommand(CLI::App& app)
                   "Depth units per metre the trial rounds to (default 0: none; 1000 with "
                   "--frames-out)");
   addSensorOptions(*cmd, o->sensor, "the config's, else l515-640", "--seed");
-  addRoiSourceOptions(*cmd, o->trial.roi, "--seed", true);
+  addRoiSourceOptions(*cmd, o->trial.roi, "--seed", RoiSourceInput::simulation);
   cmd->add_option("--snapshot", o->snapshot,
                   "Also render a PNG: the scored voxels coloured by outcome against "
                   "ground truth, the attention ROI, the numbered views (needs X; "

@@ -1,27 +1,34 @@
 #include "roi_source_options.h"
 
 #include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+
+#include <plantnbv/common/box.h>
 
 namespace plantnbv {
 namespace app {
 
 void addRoiSourceOptions(CLI::App& cmd, scenario::RoiSourceOverrides& o,
-                         const std::string& seed, bool simulated_detector)
+                         const std::string& seed, RoiSourceInput input)
 {
+  const bool simulation = input == RoiSourceInput::simulation;
   cmd.add_option("--roi-source", o.source,
                  "Where the attended ROI comes from: oracle (the boxes as given; "
                  "default), noisy (each box moved by a Gaussian error, seeded by " +
-                     seed + ")" +
-                     (simulated_detector
-                          ? ", detections (a simulated detector's finds, fused), prior "
-                            "(leaf nodes predicted along the stem in the map) or "
-                            "detections+prior"
-                          : ""));
+                     seed + "), " +
+                     (simulation ? "detections (a simulated detector's finds, fused), "
+                                 : "detections (the --roi file of fused detections, "
+                                   "from `integrate --roi-out`), ") +
+                     "prior (leaf nodes predicted along the stem in the map) or "
+                     "detections+prior (the prior anchored on the detections)");
   cmd.add_option("--roi-sigma", o.sigma_m,
                  "noisy: standard deviation of each box centre's error per axis, metres");
   cmd.add_option("--roi-scale", o.scale,
                  "noisy: factor on every box's sides (default 1)");
-  if (!simulated_detector)
+  cmd.add_option("--prior-internode", o.prior_internode_m,
+                 "prior: distance between leaf nodes along the stem, metres (default "
+                 "0.04)");
+  if (!simulation)
     return;
   cmd.add_option("--detector-recall", o.detector_recall,
                  "detections: probability that the detector finds a visible object "
@@ -34,9 +41,16 @@ void addRoiSourceOptions(CLI::App& cmd, scenario::RoiSourceOverrides& o,
   cmd.add_option("--detector-mask-dilation", o.detector_mask_dilation_px,
                  "detections: grow (> 0) or shrink (< 0) the masks by this many pixels "
                  "(default 0)");
-  cmd.add_option("--prior-internode", o.prior_internode_m,
-                 "prior: distance between leaf nodes along the stem, metres (default "
-                 "0.04)");
+}
+
+nlohmann::json roiBoxesJson(const Roi& roi)
+{
+  nlohmann::json boxes = nlohmann::json::array();
+  for (const Box& b : roi.boxes())
+    boxes.push_back({{"name", b.name},
+                     {"center", {b.center.x(), b.center.y(), b.center.z()}},
+                     {"size", {b.size.x(), b.size.y(), b.size.z()}}});
+  return boxes;
 }
 
 } // namespace app

@@ -1266,6 +1266,43 @@ TEST_F(RealRobotCliTest, PlanAttendsToANoisyRoiDrawnFromItsSeed)
             moved["candidates"]); // seeded
 }
 
+TEST_F(RealRobotCliTest, PlanPredictsLeafNodesAlongTheStemAndAddsTheDetections)
+{
+  capture("F");
+  integrate("F", "m.ot");
+  // The prior alone: leaf-node boxes on the stem, from 0.088 m above the sector's base
+  // (1, 0, 0.8) every 4 cm up to the plant's top in the map (under the sector's 0.7 m).
+  const nlohmann::json prior = planJson("--map " + path("m.ot") + " --roi-source prior");
+  EXPECT_EQ(prior["roi_source"], "prior");
+  EXPECT_EQ(prior["roi"], "prior");
+  EXPECT_EQ(prior["all_gains_zero"], false);
+  const auto& predicted = prior["attended_roi"];
+  ASSERT_GE(predicted.size(), 3u) << predicted;
+  ASSERT_LE(predicted.size(), 16u) << predicted;
+  for (std::size_t k = 0; k < predicted.size(); ++k) {
+    const auto& c = predicted[k]["center"];
+    EXPECT_EQ(predicted[k]["name"], "leaf_node_prior_" + std::to_string(k));
+    EXPECT_NEAR(c[2].get<double>(), 0.888 + 0.04 * double(k), 1e-9) << k;
+    EXPECT_LT(std::hypot(c[0].get<double>() - 1.0, c[1].get<double>()), 0.03) << k;
+  }
+
+  // detections+prior: the detections' file first, then the same prediction; plain
+  // detections: the file as it is, as the oracle takes it.
+  std::ofstream(path("nodes.yaml")) << "boxes:\n  - {name: node_a, center: [1.0, 0.0, "
+                                       "1.05], size: [0.04, 0.04, 0.06]}\n";
+  const std::string nodes = "--map " + path("m.ot") + " --roi " + path("nodes.yaml");
+  const nlohmann::json both = planJson(nodes + " --roi-source detections+prior");
+  const auto& attended = both["attended_roi"];
+  ASSERT_EQ(attended.size(), 1u + predicted.size()) << attended;
+  EXPECT_EQ(attended[0]["name"], "node_a");
+  for (std::size_t k = 0; k < predicted.size(); ++k)
+    EXPECT_EQ(attended[k + 1], predicted[k]) << k;
+  const nlohmann::json found = planJson(nodes + " --roi-source detections");
+  EXPECT_EQ(found["attended_roi"].size(), 1u);
+  EXPECT_EQ(found["candidates"], planJson(nodes)["candidates"]);
+  EXPECT_NE(found["candidates"], both["candidates"]);
+}
+
 TEST_F(RealRobotCliTest, PlanRanksTheCandidatesAsJsonAndPrintsThePoseAlone)
 {
   capture("F");

@@ -303,9 +303,14 @@ const std::vector<BadCall> kBadCalls = {
     {"reconstruct --plant 1 --roi-source detections --detector-box-jitter -1 -o {d}/x", 1,
      "--detector-box-jitter -1: expected a value in [0, 1000] (pixels)"},
     {"plan --map {d}/m.ot --roi-source detections", 1,
-     "--roi-source detections: plan attends to an ROI file"},
-    {"plan --map {d}/m.ot --roi-source prior", 1,
-     "--roi-source prior: plan attends to an ROI file"},
+     "--roi-source detections: give the detections' 3D boxes as --roi FILE"},
+    {"plan --map {d}/m.ot --roi-source detections+prior --roi main_stem", 1,
+     "--roi-source detections+prior: give the detections' 3D boxes as --roi FILE"},
+    {"plan --map {d}/m.ot --roi-source prior --roi main_stem", 1,
+     "--roi-source prior: the prior predicts the ROI from the map, --roi main_stem is "
+     "not used"},
+    {"plan --map {d}/m.ot --roi-source detections --detector-recall 0.5", 2,
+     "--detector-recall"},
     {"reconstruct --plant 1 --roi-source noisy --prior-internode 0.05 -o {d}/x", 1,
      "--prior-internode 0.05: only the prior and detections+prior ROI sources use it "
      "(--roi-source is noisy)"},

@@ -262,7 +262,7 @@ TEST(Trial, DetectionsFindTheLeafNodesAndWithoutFindsTheTrialExplores)
   expectSameSteps(explored, runTrial(plain, plant, Roi()));
 }
 
-TEST(Trial, ThePriorPredictsNodesOnTheStemAndAnchorsOnTheDetections)
+TEST(Trial, ThePriorPredictsNodesOnTheStemAndTheDetectionsComeFirst)
 {
   const auto plant = plantAt(2, 60.0);
   const Roi nodes = leafNodeRoi(*plant);
@@ -281,21 +281,26 @@ TEST(Trial, ThePriorPredictsNodesOnTheStemAndAnchorsOnTheDetections)
     EXPECT_GT(box.center.z(), plant->base_position.z());
   }
 
-  // With detections, their boxes come first and the prediction keeps clear of them.
+  // With detections, their boxes come first, then the prediction as without them: one
+  // internode apart from the first node above the base.
   config.roi_source.kind = RoiSourceKind::detections_prior;
   const auto both = setUpTrial(config, plant, nodes);
   both->run(result);
   const Roi& attended = both->getAttendedRoi();
-  std::vector<double> found;
-  for (const Box& box : attended.boxes())
-    if (box.name.rfind("leaf_node_prior_", 0) != 0)
-      found.push_back(box.center.z());
-    else
-      for (double z : found)
-        EXPECT_GT(std::abs(box.center.z() - z),
-                  0.5 * config.roi_source.prior_internode_m);
-  EXPECT_FALSE(found.empty());
-  EXPECT_GT(attended.size(), found.size());
+  std::size_t found = 0;
+  while (found < attended.size() &&
+         attended.boxes()[found].name.rfind("leaf_node_prior_", 0) != 0)
+    ++found;
+  EXPECT_GT(found, 0u);
+  ASSERT_GT(attended.size(), found);
+  const LeafNodePrior::Config rules = config.roi_source.priorConfig();
+  for (std::size_t k = found; k < attended.size(); ++k) {
+    EXPECT_EQ(attended.boxes()[k].name, "leaf_node_prior_" + std::to_string(k - found));
+    EXPECT_NEAR(attended.boxes()[k].center.z(),
+                plant->base_position.z() + rules.first_node_m +
+                    rules.internode_m * double(k - found),
+                1e-9);
+  }
 }
 
 TEST(Trial, RejectsABadConfigOrAMissingPlant)

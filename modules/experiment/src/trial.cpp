@@ -271,10 +271,8 @@ void Trial::run(TrialResult& result)
     fusion_config.class_name = detector_config.class_name;
     fusion.setConfig(fusion_config);
   }
-  // The prior: leaf nodes along the stem the map shows, anchored on detected ones.
-  LeafNodePrior::Config prior_config;
-  prior_config.internode_m = c.roi_source.prior_internode_m;
-  const LeafNodePrior prior(prior_config);
+  // The prior: leaf nodes along the stem, anchored on detected ones.
+  const LeafNodePrior prior(c.roi_source.priorConfig());
   map_ = session.getMap();
   result.setup_ms = setup_clock.ms();
   auto checkTimeLimit = [&](const char* after) {
@@ -351,15 +349,9 @@ void Trial::run(TrialResult& result)
     step.eval_ms = eval_clock.ms();
     if (c.roi_source.followsFrames()) { // what the next view attends to
       attended_ = detecting ? fusion.getRoi() : Roi();
-      if (c.roi_source.predicts()) {
-        std::vector<Eigen::Vector3d> anchors;
-        for (const Box& found : attended_.boxes())
-          anchors.push_back(found.center);
-        const Roi predicted =
-            prior.predict(occupied, sector_.axis_base, sector_.height_m, anchors);
-        for (const Box& box : predicted.boxes())
-          attended_.addBox(box);
-      }
+      if (c.roi_source.predicts())
+        attended_ =
+            prior.predictAround(attended_, occupied, sector_.axis_base, sector_.height_m);
       session.setRoi(attended_);
     }
 

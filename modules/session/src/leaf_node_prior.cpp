@@ -1,5 +1,6 @@
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <sstream>
 
 #include <pcl/point_cloud.h>
@@ -23,7 +24,7 @@ double median(std::vector<double>& values)
 }
 
 /// The stem's x, y at height z: linear between the stem points around it, the end
-/// point's beyond them.
+/// point's beyond them (one point: a vertical stem through it).
 Eigen::Vector3d stemAt(const std::vector<Eigen::Vector3d>& stem, double z)
 {
   if (z <= stem.front().z())
@@ -52,6 +53,8 @@ void LeafNodePrior::Config::validate() const
     s << "stem_radius_m " << stem_radius_m << ": expected a finite value > 0";
   else if (!positive(slice_m))
     s << "slice_m " << slice_m << ": expected a finite value > 0";
+  else if (!(std::isfinite(top_radius_m) && top_radius_m >= 0.0))
+    s << "top_radius_m " << top_radius_m << ": expected a finite value >= 0";
   else if (min_slice_points < 1)
     s << "min_slice_points 0: expected at least 1";
   else if (!(box_size_m.allFinite() && (box_size_m.array() > 0.0).all()))
@@ -99,16 +102,34 @@ std::vector<Eigen::Vector3d> LeafNodePrior::stemPoints(const CloudXYZ& occupied_
   return stem;
 }
 
+double LeafNodePrior::plantTop(const CloudXYZ& occupied_W,
+                               const Eigen::Vector3d& axis_base_W, double height_m) const
+{
+  const double top = axis_base_W.z() + height_m;
+  if (config_.top_radius_m == 0.0)
+    return top;
+  const double r2 = config_.top_radius_m * config_.top_radius_m;
+  double highest = -std::numeric_limits<double>::infinity();
+  for (const pcl::PointXYZ& p : occupied_W.points) {
+    const double dx = p.x - axis_base_W.x(), dy = p.y - axis_base_W.y();
+    if (p.z > axis_base_W.z() && p.z < top && dx * dx + dy * dy <= r2)
+      highest = std::max(highest, double(p.z));
+  }
+  return std::isfinite(highest) ? highest : top;
+}
+
 Roi LeafNodePrior::predict(const CloudXYZ& occupied_W, const Eigen::Vector3d& axis_base_W,
                            double height_m,
                            const std::vector<Eigen::Vector3d>& anchors_W) const
 {
-  const std::vector<Eigen::Vector3d> stem = stemPoints(occupied_W, axis_base_W, height_m);
-  Roi roi;
-  if (stem.size() < 2)
-    return roi;
+  std::vector<Eigen::Vector3d> stem = stemPoints(occupied_W, axis_base_W, height_m);
+  if (stem.empty()) // nothing of the stem seen yet: it stands on the plant's axis
+    stem.push_back(axis_base_W);
   const double s = config_.internode_m;
-  const double bottom = stem.front().z(), top = stem.back().z();
+  // The whole plant's height: the stem goes on where leaves hide it, and the nodes
+  // behind them are the ones attention has to find. Above the plant's top is air.
+  const double bottom = axis_base_W.z();
+  const double top = plantTop(occupied_W, axis_base_W, height_m);
   std::vector<Eigen::Vector3d> anchors;
   for (const Eigen::Vector3d& a : anchors_W)
     if (a.allFinite() && a.z() >= bottom - s && a.z() <= top + s)
@@ -140,9 +161,25 @@ Roi LeafNodePrior::predict(const CloudXYZ& occupied_W, const Eigen::Vector3d& ax
     }
   }
   std::sort(predicted.begin(), predicted.end());
+  Roi roi;
   for (std::size_t k = 0; k < predicted.size(); ++k)
     roi.addBox(Box(stemAt(stem, predicted[k]), config_.box_size_m,
                    "leaf_node_prior_" + std::to_string(k)));
+  return roi;
+}
+
+Roi LeafNodePrior::predictAround(const Roi& found_W, const CloudXYZ& occupied_W,
+                                 const Eigen::Vector3d& axis_base_W,
+                                 double height_m) const
+{
+  std::vector<Eigen::Vector3d> anchors;
+  if (config_.anchor_on_found)
+    for (const Box& box : found_W.boxes())
+      anchors.push_back(box.center);
+  Roi roi = found_W;
+  const Roi predicted = predict(occupied_W, axis_base_W, height_m, anchors);
+  for (const Box& box : predicted.boxes())
+    roi.addBox(box);
   return roi;
 }
 

@@ -92,6 +92,13 @@ void RoiSource::validate(const std::string& option_prefix) const
     throw InvalidArgumentError(s.str());
 }
 
+LeafNodePrior::Config RoiSource::priorConfig() const
+{
+  LeafNodePrior::Config config;
+  config.internode_m = prior_internode_m;
+  return config;
+}
+
 Roi RoiSource::apply(const Roi& given, std::uint64_t seed) const
 {
   validate();

@@ -2,25 +2,36 @@
 /// \file leaf_node_prior.h
 /// \brief LeafNodePrior: the `prior` ROI source. Leaf nodes recur along the main stem
 /// (the paper, section 5.3: prediction "from prior knowledge of how the plant grows"),
-/// so boxes are predicted along the stem seen in the map, one internode apart, anchored
-/// on detected nodes when there are any.
+/// so boxes are predicted one internode apart along the stem, as the map shows it and
+/// beyond, anchored on detected nodes when there are any.
 ///
 /// The rules, each a Config value:
 /// - The stem: the occupied voxels within stem_radius_m of the plant's vertical axis
 ///   (the sector's axis, which a robot knows as where the plant stands), above its base,
 ///   cut into slices of slice_m along z; a slice with at least min_slice_points voxels
-///   gives a stem point (the median x and y of its voxels, the slice's middle z). The
-///   stem runs from the lowest stem point to the highest. Fewer than two stem points: no
-///   stem, no prediction.
-/// - The nodes: with anchors (the centres of detected nodes), every anchor on the stem
-///   (within the stem's z range grown by one internode) is a node, and nodes are
-///   predicted from it one internode_m apart up and down, as long as they stay on the
-///   stem and are more than half an internode from every other node. Without anchors,
-///   nodes are predicted from first_node_m above the stem's bottom, one internode apart,
-///   up to its top.
+///   gives a stem point (the median x and y of its voxels, the slice's middle z).
+/// - The stem spans the plant's whole height, from the axis's base to its top (below):
+///   between stem points it is interpolated, beyond the
+///   lowest and the highest it keeps their x and y, and with no stem point it is the
+///   axis itself. The parts the map does not show yet, hidden behind leaves, are where
+///   attention has to go: predicting only along the seen stem drew the views back to
+///   what was seen (docs/results.md, "ROIs predicted from the plant's structure").
+/// - The plant's top: the highest occupied voxel within top_radius_m of the axis, below
+///   height_m (none: height_m). Above it is air, where no node grows; predicting there
+///   drew views to empty space above plants shorter than the sector (0.45-0.70 m plants
+///   under a 0.7 m sector). A top that no frame has shown yet is not known: the
+///   prediction then ends at the highest part seen and grows as views see more.
+/// - The nodes: with anchors (the centres of detected nodes), every anchor within the
+///   height grown by one internode is a node, and nodes are predicted from it one
+///   internode_m apart up and down, as long as they stay within the height and are
+///   more than half an internode from every other node. Without anchors, nodes are
+///   predicted from first_node_m above the base, one internode apart, up to the top.
+///   predictAround() anchors on the detections only with anchor_on_found: the boxes
+///   (5 cm tall, 4 cm apart) then no longer cover the stem without gaps, and the gaps
+///   cost (docs/results.md, "ROIs predicted from the plant's structure").
 /// - The boxes: box_size_m (the paper's leaf-node box) centred on the stem at each
-///   predicted node's height (the stem points' x, y interpolated along z). Anchors get no
-///   box here: they have their own (the detections').
+///   predicted node's height. Anchors get no box here: they have their own (the
+///   detections').
 ///
 /// The defaults come from the anatomy of the generator's default plants (seeds 0-9,
 /// docs/plants.md): internodes of 0.040 m on average (median 0.041, sd 0.009; 11-13
@@ -38,7 +49,7 @@
 
 namespace plantnbv {
 
-/// \brief Predicts leaf-node boxes along the main stem seen in a map.
+/// \brief Predicts leaf-node boxes along the main stem, from the part a map shows.
 ///
 /// \code
 /// LeafNodePrior prior;                                 // tomato defaults
@@ -50,10 +61,16 @@ public:
   /// \brief The rules (see the file's comment). Defaults: the generator's tomato plants.
   struct Config {
     double internode_m = 0.04;   ///< the distance between successive leaf nodes
-    double first_node_m = 0.088; ///< the first node above the stem's bottom (no anchor)
+    double first_node_m = 0.088; ///< the first node above the plant's base (no anchor)
     double stem_radius_m = 0.03; ///< stem voxels lie this near the plant's axis
     double slice_m = 0.02;       ///< the height of a slice of stem voxels
     std::size_t min_slice_points = 3; ///< fewer voxels: the slice has no stem point
+    /// The plant's top is the highest occupied voxel this near the axis (metres, half
+    /// the paper's whole-plant box); 0: the given height is the top.
+    double top_radius_m = 0.15;
+    /// predictAround(): true anchors the prediction on the found boxes' centres; false
+    /// (default) predicts as without them and adds them (the file's comment says why).
+    bool anchor_on_found = false;
     /// Each predicted node's box (metres): the paper's leaf-node box.
     Eigen::Vector3d box_size_m{0.03, 0.03, 0.05};
 
@@ -72,7 +89,7 @@ public:
   const Config& getConfig() const { return config_; }
 
   /// \brief The stem points (median x, y and middle z of each slice with stem voxels),
-  /// from bottom to top; fewer than two: no stem.
+  /// from bottom to top; empty when no slice has enough stem voxels.
   /// \param[in] occupied_W the map's occupied voxel centres, world frame
   /// \param[in] axis_base_W the plant's base on its vertical axis, world frame
   /// \param[in] height_m how far above the base to look (the sector's height)
@@ -80,11 +97,27 @@ public:
                                           const Eigen::Vector3d& axis_base_W,
                                           double height_m) const;
 
-  /// \brief The predicted leaf-node boxes, named "leaf_node_prior_<k>" from the bottom
-  /// (none for the anchors themselves); empty when no stem is seen.
+  /// \brief The predicted leaf-node boxes from the plant's base to its top, named
+  /// "leaf_node_prior_<k>" from the bottom (none for the anchors themselves).
+  /// \param[in] occupied_W the map's occupied voxel centres, world frame (may be empty)
+  /// \param[in] axis_base_W the plant's base on its vertical axis, world frame
+  /// \param[in] height_m how far above the base the plant may reach (the sector's height)
   /// \param[in] anchors_W detected nodes' centres, world frame (may be empty)
+  /// \throws InvalidArgumentError for a base that is not finite or a height <= 0.
   Roi predict(const CloudXYZ& occupied_W, const Eigen::Vector3d& axis_base_W,
               double height_m, const std::vector<Eigen::Vector3d>& anchors_W = {}) const;
+
+  /// \brief The plant's top (world z): the highest occupied voxel within top_radius_m
+  /// of the axis and below height_m above the base; the base + height_m without one.
+  double plantTop(const CloudXYZ& occupied_W, const Eigen::Vector3d& axis_base_W,
+                  double height_m) const;
+
+  /// \brief The `detections+prior` ROI: the `found_W` boxes (the detected nodes, as
+  /// DetectionFusion or an ROI file gives them) first, then predict()'s boxes, anchored
+  /// on their centres with Config::anchor_on_found. With no box found, the prediction
+  /// alone (the `prior` source).
+  Roi predictAround(const Roi& found_W, const CloudXYZ& occupied_W,
+                    const Eigen::Vector3d& axis_base_W, double height_m) const;
 
 private:
   Config config_;

@@ -14,6 +14,7 @@
 #include <string>
 
 #include <plantnbv/common/box.h>
+#include <plantnbv/session/leaf_node_prior.h>
 
 namespace plantnbv {
 
@@ -71,6 +72,10 @@ struct RoiSource {
   /// ignored). The message names the config keys (`roi_sigma`), or with an
   /// `option_prefix` the options ("--" gives `--roi-sigma`).
   void validate(const std::string& option_prefix = "") const;
+
+  /// \brief The prior's rules: LeafNodePrior's defaults, one internode of
+  /// prior_internode_m apart.
+  LeafNodePrior::Config priorConfig() const;
 
   /// \brief The ROI the planner attends to, from the `given` boxes. oracle: `given`
   /// itself. noisy: box i's centre moved by sigma_m times three standard normal draws
