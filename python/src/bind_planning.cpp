@@ -15,6 +15,7 @@
 #include <plantnbv/planning/cylindrical_sector_sampler.h>
 #include <plantnbv/planning/view_planner.h>
 #include <plantnbv/session/active_vision_session.h>
+#include <plantnbv/session/leaf_node_prior.h>
 
 #include "arrays.h"
 #include "bindings.h"
@@ -600,6 +601,62 @@ void bindSession(py::module_& m)
           "path"_a, "Writes the map, .ot (log-odds) or .bt, by extension.");
 }
 
+void bindLeafNodePrior(py::module_& m)
+{
+  using Config = LeafNodePrior::Config;
+  const auto anchors = [](const py::handle& points) { // doubles, as the boxes' centres
+    std::vector<Eigen::Vector3d> out;
+    if (!points.is_none())
+      for (const py::handle& point : points)
+        out.push_back(readVector3(point, "anchors"));
+    return out;
+  };
+  py::class_<LeafNodePrior>(
+      m, "LeafNodePrior",
+      "Leaf-node boxes predicted one internode apart along the main stem, from the "
+      "plant's base to its top in the map (the `prior` ROI source; "
+      "session/leaf_node_prior.h gives the rules). Defaults: the generator's tomatoes.")
+      .def(py::init([](double internode_m, double first_node_m, double top_radius_m,
+                       bool anchor_on_found) {
+             Config c;
+             c.internode_m = internode_m;
+             c.first_node_m = first_node_m;
+             c.top_radius_m = top_radius_m;
+             c.anchor_on_found = anchor_on_found;
+             return LeafNodePrior(c);
+           }),
+           "internode_m"_a = Config().internode_m,
+           "first_node_m"_a = Config().first_node_m,
+           "top_radius_m"_a = Config().top_radius_m,
+           "anchor_on_found"_a = Config().anchor_on_found)
+      .def(
+          "predict",
+          [anchors](const LeafNodePrior& prior, const py::handle& occupied,
+                    const CylindricalSector& sector, const py::handle& anchor_points) {
+            CloudXYZ cloud;
+            readPoints(occupied, "occupied", cloud);
+            const std::vector<Eigen::Vector3d> a = anchors(anchor_points);
+            py::gil_scoped_release release;
+            return prior.predict(cloud, sector.axis_base, sector.height_m, a);
+          },
+          "occupied"_a, "sector"_a, "anchors"_a = py::none(),
+          "The predicted boxes (a Roi) from a map's occupied voxel centres, (N, 3) "
+          "world points (Session.map.occupied_centres()), on the sector's axis and up to "
+          "its height; `anchors`, (K, 3): detected nodes to predict from.")
+      .def(
+          "predict_around",
+          [](const LeafNodePrior& prior, const Roi& found, const py::handle& occupied,
+             const CylindricalSector& sector) {
+            CloudXYZ cloud;
+            readPoints(occupied, "occupied", cloud);
+            py::gil_scoped_release release;
+            return prior.predictAround(found, cloud, sector.axis_base, sector.height_m);
+          },
+          "found"_a, "occupied"_a, "sector"_a,
+          "The `detections+prior` ROI: the `found` boxes (e.g. read_roi of `integrate "
+          "--roi-out`), then the prediction.");
+}
+
 } // namespace
 
 void bindPlanning(py::module_& m)
@@ -608,6 +665,7 @@ void bindPlanning(py::module_& m)
   bindSamplers(m);
   bindPlanners(m);
   bindSession(m);
+  bindLeafNodePrior(m);
 }
 
 } // namespace python

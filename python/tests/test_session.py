@@ -61,6 +61,36 @@ def test_session_gives_the_tools_map_and_views(frames, placed, cli, tmp_path):
     np.testing.assert_array_equal(nbv.viewpoints[0], tool["best"]["viewpoint"])
 
 
+def test_the_prior_predicts_what_plan_attends_to(frames, cli, tmp_path):
+    cli("integrate", frames, "-o", tmp_path / "m.ot")
+    tool = cli("plan", "--map", tmp_path / "m.ot", "--roi-source", "prior", "--json",
+               parse_json=True)["attended_roi"]
+    session = pn.Session()
+    session.integrate_frames(pn.FramesFolder(frames))
+    occupied = session.map.occupied_centres()
+    sector = session.config.sector
+    prior = pn.LeafNodePrior()
+    predicted = prior.predict(occupied, sector)
+    assert len(predicted) >= 3
+    assert [b.name for b in predicted] == [b["name"] for b in tool]
+    np.testing.assert_array_equal([b.center for b in predicted], [b["center"] for b in tool])
+    np.testing.assert_array_equal([b.size for b in predicted], [b["size"] for b in tool])
+
+    # detections+prior: the found boxes, then the same prediction; anchored on them
+    # with anchor_on_found, as predict() with their centres as anchors.
+    found = pn.Roi([pn.Box([1.0, 0.0, 1.05], [0.04, 0.04, 0.06], "node_a")])
+    both = list(prior.predict_around(found, occupied, sector))
+    assert [b.name for b in both] == ["node_a"] + [b.name for b in predicted]
+    anchored = list(pn.LeafNodePrior(anchor_on_found=True)
+                    .predict_around(found, occupied, sector))
+    expected = prior.predict(occupied, sector, anchors=[[1.0, 0.0, 1.05]])
+    np.testing.assert_array_equal([b.center for b in anchored[1:]],
+                                  [b.center for b in expected])
+    assert any(abs(b.center[2] - 1.09) < 1e-9 for b in expected)  # one internode up
+    with pytest.raises(ValueError, match="internode_m"):
+        pn.LeafNodePrior(internode_m=0)
+
+
 def test_the_loop_on_simulated_frames_gains_what_it_plans(placed, sensor, camera):
     session = pn.Session(seed=1)
     session.camera = camera
