@@ -131,6 +131,7 @@ nlohmann::json summaryJson(const ReconstructOptions& o, const PlacedPlant& place
         {"detector_false_positives", c.roi_source.detector_false_positives},
         {"detector_box_jitter", c.roi_source.detector_box_jitter_px},
         {"detector_mask_dilation", c.roi_source.detector_mask_dilation_px},
+        {"detector_masks", c.roi_source.detector_masks},
         {"prior_internode", c.roi_source.prior_internode_m},
         {"seed", roiSourceSeed(c.seed)}}},
       {"views", c.views},

@@ -37,10 +37,12 @@ void addRoiSourceOptions(CLI::App& cmd, scenario::RoiSourceOverrides& o,
                  "detections: false detections per frame, on average (default 0)");
   cmd.add_option("--detector-box-jitter", o.detector_box_jitter_px,
                  "detections: standard deviation of each box edge's error, pixels "
-                 "(default 0)");
+                 "(default 0; needs --detector-masks false)");
   cmd.add_option("--detector-mask-dilation", o.detector_mask_dilation_px,
                  "detections: grow (> 0) or shrink (< 0) the masks by this many pixels "
                  "(default 0)");
+  cmd.add_option("--detector-masks", o.detector_masks,
+                 "detections: instance masks (true, default) or boxes only (false)");
 }
 
 nlohmann::json roiBoxesJson(const Roi& roi)

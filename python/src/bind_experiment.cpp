@@ -290,9 +290,9 @@ void bindExperiment(py::module_& m)
          std::optional<double> roi_scale, std::optional<double> detector_recall,
          std::optional<double> detector_false_positives,
          std::optional<double> detector_box_jitter,
-         std::optional<int> detector_mask_dilation, std::optional<double> prior_internode,
-         std::optional<Path> config, std::optional<Path> map_out,
-         const py::object& progress) {
+         std::optional<int> detector_mask_dilation, std::optional<bool> detector_masks,
+         std::optional<double> prior_internode, std::optional<Path> config,
+         std::optional<Path> map_out, const py::object& progress) {
         scenario::TrialOverrides o;
         o.config_file = config ? config->string() : "";
         o.pattern = pattern;
@@ -314,6 +314,7 @@ void bindExperiment(py::module_& m)
         o.roi.detector_false_positives = detector_false_positives;
         o.roi.detector_box_jitter_px = detector_box_jitter;
         o.roi.detector_mask_dilation_px = detector_mask_dilation;
+        o.roi.detector_masks = detector_masks;
         o.roi.prior_internode_m = prior_internode;
         return runTrial(placed, planner, attention, o, row_spacing_m, map_out, progress);
       },
@@ -326,8 +327,8 @@ void bindExperiment(py::module_& m)
       "roi_sigma"_a = py::none(), "roi_scale"_a = py::none(),
       "detector_recall"_a = py::none(), "detector_false_positives"_a = py::none(),
       "detector_box_jitter"_a = py::none(), "detector_mask_dilation"_a = py::none(),
-      "prior_internode"_a = py::none(), "config"_a = py::none(), "map_out"_a = py::none(),
-      "progress"_a = py::none(),
+      "detector_masks"_a = py::none(), "prior_internode"_a = py::none(),
+      "config"_a = py::none(), "map_out"_a = py::none(), "progress"_a = py::none(),
       "One trial on a PlacedPlant, as `plantnbv reconstruct` runs it (the same seed "
       "gives "
       "the same steps): capture at v0, then plan, capture, integrate up to `views`, "
@@ -337,6 +338,7 @@ void bindExperiment(py::module_& m)
       "`roi_source` 'oracle', 'noisy', 'detections', 'prior' or 'detections+prior', "
       "`roi_sigma` (metres), `roi_scale`, `detector_recall`, `detector_false_positives`, "
       "`detector_box_jitter` (pixels), `detector_mask_dilation` (pixels), "
+      "`detector_masks` (False: boxes only), "
       "`prior_internode` (metres): where the attended ROI comes from, as the options of "
       "the same names); `sector_radius_m` and `row_spacing_m` (a neighbour plant this "
       "far on each side; 0: alone) as --sector-radius and --row-spacing; "

@@ -95,11 +95,12 @@ def test_a_noisy_roi_source_is_reconstructs(placed, cli, tmp_path):
 def test_a_detections_roi_source_is_reconstructs(placed, cli, tmp_path):
     cli("reconstruct", "--plant", 3, "--views", 2, "--seed", 5, "--attention", "leaf_nodes",
         "--roi-source", "detections", "--detector-recall", 0.8, "--detector-box-jitter", 3,
-        "--detector-mask-dilation", 2, "-o", tmp_path / "tool")
+        "--detector-mask-dilation", 2, "--detector-masks", "false", "-o", tmp_path / "tool")
     tool = steps_csv(tmp_path / "tool" / "steps.csv")
     ours = pn.run_trial(placed, attention="leaf_nodes", views=2, seed=5,
                         roi_source="detections", detector_recall=0.8,
-                        detector_box_jitter=3, detector_mask_dilation=2)
+                        detector_box_jitter=3, detector_mask_dilation=2,
+                        detector_masks=False)
     for column, values in tool.items():
         if not column.endswith("_ms"):
             np.testing.assert_array_equal(ours.columns()[column], values, err_msg=column)
@@ -107,6 +108,8 @@ def test_a_detections_roi_source_is_reconstructs(placed, cli, tmp_path):
     assert all(b.name.startswith("leaf_node_") for b in ours.attended_roi.boxes)
     with pytest.raises(ValueError, match="detector_mask_dilation 2: only the detections"):
         pn.run_trial(placed, views=2, detector_mask_dilation=2)
+    with pytest.raises(ValueError, match="detector_box_jitter 3: the fusion back-projects"):
+        pn.run_trial(placed, views=2, roi_source="detections", detector_box_jitter=3)
 
 
 def test_a_progress_callback_that_raises_stops_the_trial(placed):

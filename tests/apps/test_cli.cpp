@@ -1184,11 +1184,10 @@ TEST_F(RealRobotCliTest, ATrialsDetectionsReplayToItsRoiAndThePlanUsesIt)
 {
   // A trial attending to its simulated detector's finds writes them beside its frames;
   // `integrate --roi-out` fuses them into the boxes the trial attended to at its end.
-  const ToolRun r =
-      run("reconstruct --plant 1 --views 3 --attention leaf_nodes "
-          "--roi-source detections --detector-recall 0.8 "
-          "--detector-box-jitter 1 --detector-mask-dilation 1 --frames-out " +
-          path("F") + " -o " + path("D"));
+  const ToolRun r = run("reconstruct --plant 1 --views 3 --attention leaf_nodes "
+                        "--roi-source detections --detector-recall 0.8 "
+                        "--detector-mask-dilation 1 --frames-out " +
+                        path("F") + " -o " + path("D"));
   ASSERT_EQ(r.code, 0) << r.err;
   const plantnbv::io::FramesFolder folder(path("F"));
   ASSERT_EQ(folder.frames().size(), 3u);
@@ -1207,7 +1206,7 @@ TEST_F(RealRobotCliTest, ATrialsDetectionsReplayToItsRoiAndThePlanUsesIt)
   const auto summary = nlohmann::json::parse(slurp(path("D/summary.json")));
   EXPECT_EQ(summary["config"]["roi_source"]["type"], "detections");
   EXPECT_EQ(summary["config"]["roi_source"]["detector_recall"], 0.8);
-  EXPECT_EQ(summary["config"]["roi_source"]["detector_box_jitter"], 1.0);
+  EXPECT_EQ(summary["config"]["roi_source"]["detector_masks"], true);
   EXPECT_EQ(summary["config"]["roi_source"]["detector_mask_dilation"], 1);
   const auto& attended = summary["attended_roi"];
   ASSERT_GT(attended.size(), 0u);
@@ -1240,6 +1239,42 @@ TEST_F(RealRobotCliTest, ATrialsDetectionsReplayToItsRoiAndThePlanUsesIt)
   EXPECT_NE(fruit.err.find("warning: no 'fruit' found in"), std::string::npos)
       << fruit.err;
   EXPECT_NE(fruit.err.find("(an earlier run's file removed)"), std::string::npos);
+}
+
+TEST_F(RealRobotCliTest, ABoxesOnlyDetectorsJitterMovesTheRoiAndReplays)
+{
+  // A YOLO-like detector: boxes without masks, the fusion takes each box's nearest
+  // depth cluster; its boxes' jitter moves the fused ROI, and the frames replay to it.
+  const std::string trial = "reconstruct --plant 1 --views 2 --attention leaf_nodes "
+                            "--roi-source detections --detector-masks false ";
+  const ToolRun exact = run(trial + "-o " + path("exact"));
+  const ToolRun off = run(trial + "--detector-box-jitter 4 --frames-out " + path("F") +
+                          " -o " + path("off"));
+  ASSERT_EQ(exact.code, 0) << exact.err;
+  ASSERT_EQ(off.code, 0) << off.err;
+  const auto summary = nlohmann::json::parse(slurp(path("off/summary.json")));
+  EXPECT_EQ(summary["config"]["roi_source"]["detector_masks"], false);
+  EXPECT_EQ(summary["config"]["roi_source"]["detector_box_jitter"], 4.0);
+  const auto& attended = summary["attended_roi"];
+  ASSERT_GT(attended.size(), 0u);
+  EXPECT_NE(attended,
+            nlohmann::json::parse(slurp(path("exact/summary.json")))["attended_roi"]);
+  const plantnbv::io::FramesFolder folder(path("F"));
+  for (std::size_t i = 0; i < folder.frames().size(); ++i) {
+    std::vector<plantnbv::Detection> detections;
+    folder.loadDetections(i, detections);
+    for (const plantnbv::Detection& d : detections)
+      EXPECT_TRUE(d.mask.empty()) << i;
+  }
+  const ToolRun replay = run("integrate " + path("F") + " -o " + path("m.ot") +
+                             " --roi-out " + path("nodes.yaml"));
+  ASSERT_EQ(replay.code, 0) << replay.err;
+  const plantnbv::Roi fused = plantnbv::io::loadRoi(path("nodes.yaml"));
+  ASSERT_EQ(fused.size(), attended.size());
+  for (std::size_t k = 0; k < fused.size(); ++k)
+    for (int axis = 0; axis < 3; ++axis)
+      EXPECT_DOUBLE_EQ(fused.boxes()[k].center[axis],
+                       attended[k]["center"][axis].get<double>());
 }
 
 TEST_F(RealRobotCliTest, PlanAttendsToANoisyRoiDrawnFromItsSeed)

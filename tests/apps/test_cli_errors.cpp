@@ -302,6 +302,12 @@ const std::vector<BadCall> kBadCalls = {
      1, "--detector-mask-dilation 65: expected pixels in [-64, 64]"},
     {"reconstruct --plant 1 --roi-source detections --detector-box-jitter -1 -o {d}/x", 1,
      "--detector-box-jitter -1: expected a value in [0, 1000] (pixels)"},
+    {"reconstruct --plant 1 --roi-source detections --detector-box-jitter 2 -o {d}/x", 1,
+     "--detector-box-jitter 2: the fusion back-projects the detector's masks, not its "
+     "boxes; set --detector-masks false for a boxes-only detector"},
+    {"reconstruct --plant 1 --detector-masks false -o {d}/x", 1,
+     "--detector-masks false: only the detections and detections+prior ROI sources use "
+     "it (--roi-source is oracle)"},
     {"plan --map {d}/m.ot --roi-source detections", 1,
      "--roi-source detections: give the detections' 3D boxes as --roi FILE"},
     {"plan --map {d}/m.ot --roi-source detections+prior --roi main_stem", 1,

@@ -132,6 +132,7 @@ TEST_F(TrialConfigFile, ItsTextLoadsBackToTheSameValues)
   detections.roi_source.detector_false_positives = 1.5;
   detections.roi_source.detector_box_jitter_px = 2.5;
   detections.roi_source.detector_mask_dilation_px = -2;
+  detections.roi_source.detector_masks = false;
   detections.roi_source.prior_internode_m = 0.05;
   const TrialConfig detections_back = roundTrip(detections, "detections.yaml");
   EXPECT_EQ(detections_back.roi_source.kind, RoiSourceKind::detections_prior);
@@ -139,6 +140,7 @@ TEST_F(TrialConfigFile, ItsTextLoadsBackToTheSameValues)
   EXPECT_EQ(detections_back.roi_source.prior_internode_m, 0.05);
   EXPECT_EQ(detections_back.roi_source.detector_box_jitter_px, 2.5);
   EXPECT_EQ(detections_back.roi_source.detector_mask_dilation_px, -2);
+  EXPECT_FALSE(detections_back.roi_source.detector_masks);
   TrialConfig predefined;
   predefined.planner = PlannerKind::predefined;
   predefined.pattern = 3;
@@ -157,7 +159,7 @@ TEST_F(TrialConfigFile, ItsTextLoadsBackToTheSameValues)
   const std::vector<std::string> defaults = lines(TrialConfig());
   const std::vector<std::vector<std::string>> set = {lines(c), lines(detections),
                                                      lines(predefined)};
-  ASSERT_EQ(defaults.size(), 25u);
+  ASSERT_EQ(defaults.size(), 26u);
   for (std::size_t i = 0; i < defaults.size(); ++i)
     EXPECT_TRUE(set[0][i] != defaults[i] || set[1][i] != defaults[i] ||
                 set[2][i] != defaults[i])

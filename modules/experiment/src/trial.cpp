@@ -265,6 +265,7 @@ void Trial::run(TrialResult& result)
     detector_config.false_positives = c.roi_source.detector_false_positives;
     detector_config.box_jitter_px = c.roi_source.detector_box_jitter_px;
     detector_config.mask_dilation_px = c.roi_source.detector_mask_dilation_px;
+    detector_config.masks = c.roi_source.detector_masks;
     detector_config.seed = roiSourceSeed(c.seed);
     detector.setConfig(detector_config);
     DetectionFusion::Config fusion_config;

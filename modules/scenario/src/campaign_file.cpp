@@ -194,6 +194,9 @@ CampaignPlanner readPlanner(const YamlReader& r, const YAML::Node& node,
           roi_source.detector_mask_dilation_px =
               r.read<int>(n, k, "whole pixels (< 0: shrink)");
         })},
+       {"detector_masks", roiKey([&](const YAML::Node& n, const std::string& k) {
+          roi_source.detector_masks = r.read<bool>(n, k, "true or false");
+        })},
        {"prior_internode", roiKey([&](const YAML::Node& n, const std::string& k) {
           roi_source.prior_internode_m = r.read<double>(n, k, "a number (metres)");
         })},

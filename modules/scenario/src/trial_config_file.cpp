@@ -109,6 +109,7 @@ void readTrialConfig(const YamlReader& r, const YAML::Node& root, const std::str
        {"detector_box_jitter", into(r, c.roi_source.detector_box_jitter_px, number)},
        {"detector_mask_dilation",
         into(r, c.roi_source.detector_mask_dilation_px, integer)},
+       {"detector_masks", into(r, c.roi_source.detector_masks, boolean)},
        {"prior_internode", into(r, c.roi_source.prior_internode_m, number)},
        {"stop_gain_bits", into(r, c.stop_gain_bits, number)},
        {"explore_share", into(r, c.explore_share, number)},
@@ -187,6 +188,7 @@ std::string trialConfigText(const TrialConfig& c)
     << "detector_false_positives: " << n(c.roi_source.detector_false_positives) << "\n"
     << "detector_box_jitter: " << n(c.roi_source.detector_box_jitter_px) << "\n"
     << "detector_mask_dilation: " << c.roi_source.detector_mask_dilation_px << "\n"
+    << "detector_masks: " << (c.roi_source.detector_masks ? "true" : "false") << "\n"
     << "prior_internode: " << n(c.roi_source.prior_internode_m) << "\n"
     << "stop_gain_bits: " << n(c.stop_gain_bits) << "\n"
     << "explore_share: " << n(c.explore_share) << "\n"

@@ -58,6 +58,8 @@ std::string nbvPlannerName(const Attention& attention, const RoiSource& source)
       s << "-jitter" << source.detector_box_jitter_px << "px";
     if (source.detector_mask_dilation_px != 0)
       s << "-dilation" << source.detector_mask_dilation_px << "px";
+    if (!source.detector_masks)
+      s << "-boxes";
     if (source.prior_internode_m != RoiSource().prior_internode_m)
       s << "-internode" << source.prior_internode_m * 1000.0 << "mm";
   }
@@ -146,6 +148,7 @@ void RoiSourceOverrides::applyTo(RoiSource& roi, const std::string& option_prefi
       roi.detector_false_positives = defaults.detector_false_positives;
       roi.detector_box_jitter_px = defaults.detector_box_jitter_px;
       roi.detector_mask_dilation_px = defaults.detector_mask_dilation_px;
+      roi.detector_masks = defaults.detector_masks;
     }
     if (!roi.predicts())
       roi.prior_internode_m = defaults.prior_internode_m;
@@ -162,6 +165,8 @@ void RoiSourceOverrides::applyTo(RoiSource& roi, const std::string& option_prefi
     roi.detector_box_jitter_px = *detector_box_jitter_px;
   if (detector_mask_dilation_px)
     roi.detector_mask_dilation_px = *detector_mask_dilation_px;
+  if (detector_masks)
+    roi.detector_masks = *detector_masks;
   if (prior_internode_m)
     roi.prior_internode_m = *prior_internode_m;
   roi.validate(option_prefix);

@@ -86,6 +86,14 @@ void RoiSource::validate(const std::string& option_prefix) const
   else if (!detects() && detector_mask_dilation_px != 0)
     onlyFor(s, "detector_mask_dilation", detector_mask_dilation_px,
             "detections and detections+prior");
+  else if (!detects() && !detector_masks)
+    s << key("detector_masks") << " false: only the detections and detections+prior ROI "
+      << "sources use it (" << key("roi_source") << " is " << roiSourceKindName(kind)
+      << ")";
+  else if (detector_masks && detector_box_jitter_px != 0.0)
+    s << key("detector_box_jitter") << " " << shortestText(detector_box_jitter_px)
+      << ": the fusion back-projects the detector's masks, not its boxes; set "
+      << key("detector_masks") << " false for a boxes-only detector";
   else if (!predicts() && prior_internode_m != RoiSource().prior_internode_m)
     onlyFor(s, "prior_internode", prior_internode_m, "prior and detections+prior");
   if (!s.str().empty())

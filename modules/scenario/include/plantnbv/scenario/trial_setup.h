@@ -66,9 +66,9 @@ void fitSectorToPlant(const PlacedPlant& placed, std::optional<double> sector_he
                       TrialConfig& config);
 
 /// \brief What `--roi-source`, `--roi-sigma`, `--roi-scale`, `--detector-recall`,
-/// `--detector-false-positives`, `--detector-box-jitter`, `--detector-mask-dilation` and
-/// `--prior-internode` (reconstruct; plan the first three) and Python's keywords of the
-/// same names set over a config's RoiSource.
+/// `--detector-false-positives`, `--detector-box-jitter`, `--detector-mask-dilation`,
+/// `--detector-masks` and `--prior-internode` (reconstruct; plan those of the noisy and
+/// prior sources) and Python's keywords of the same names set over a config's RoiSource.
 struct RoiSourceOverrides {
   std::optional<std::string> source;              ///< oracle, noisy, detections
   std::optional<double> sigma_m;                  ///< RoiSource::sigma_m
@@ -77,6 +77,7 @@ struct RoiSourceOverrides {
   std::optional<double> detector_false_positives; ///< per frame
   std::optional<double> detector_box_jitter_px;   ///< RoiSource::detector_box_jitter_px
   std::optional<int> detector_mask_dilation_px;   ///< RoiSource::..._mask_dilation_px
+  std::optional<bool> detector_masks;             ///< RoiSource::detector_masks
   std::optional<double> prior_internode_m;        ///< RoiSource::prior_internode_m
 
   /// \brief Sets what is given over `roi` and validates it. Messages name the overrides

@@ -49,6 +49,11 @@ struct RoiSource {
   /// detections, in trials: the masks grown (> 0) or shrunk (< 0) by this many pixels
   /// (SimulatedDetector::Config::mask_dilation_px), in [-64, 64].
   int detector_mask_dilation_px = 0;
+  /// detections, in trials: instance masks (Mask R-CNN-like; the fusion back-projects
+  /// them) or, false, boxes only (YOLO-like; the fusion takes the box's nearest depth
+  /// cluster), SimulatedDetector::Config::masks. Box jitter moves only boxes, so it
+  /// needs false.
+  bool detector_masks = true;
   /// prior: the distance between successive leaf nodes along the stem (metres;
   /// LeafNodePrior's default, from the generator's plants).
   double prior_internode_m = 0.04;
