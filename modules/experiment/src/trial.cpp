@@ -272,7 +272,7 @@ void Trial::run(TrialResult& result)
     fusion_config.class_name = detector_config.class_name;
     fusion.setConfig(fusion_config);
   }
-  // The prior: leaf nodes along the stem, anchored on detected ones.
+  // The prior: leaf nodes along the stem, the detected ones added to them.
   const LeafNodePrior prior(c.roi_source.priorConfig());
   map_ = session.getMap();
   result.setup_ms = setup_clock.ms();

@@ -3,7 +3,7 @@
 /// \brief LeafNodePrior: the `prior` ROI source. Leaf nodes recur along the main stem
 /// (the paper, section 5.3: prediction "from prior knowledge of how the plant grows"),
 /// so boxes are predicted one internode apart along the stem, as the map shows it and
-/// beyond, anchored on detected nodes when there are any.
+/// beyond; detected nodes' boxes are added to them (or, on request, anchor them).
 ///
 /// The rules, each a Config value:
 /// - The stem: the occupied voxels within stem_radius_m of the plant's vertical axis
@@ -11,11 +11,11 @@
 ///   cut into slices of slice_m along z; a slice with at least min_slice_points voxels
 ///   gives a stem point (the median x and y of its voxels, the slice's middle z).
 /// - The stem spans the plant's whole height, from the axis's base to its top (below):
-///   between stem points it is interpolated, beyond the
-///   lowest and the highest it keeps their x and y, and with no stem point it is the
-///   axis itself. The parts the map does not show yet, hidden behind leaves, are where
-///   attention has to go: predicting only along the seen stem drew the views back to
-///   what was seen (docs/results.md, "ROIs predicted from the plant's structure").
+///   between stem points it is interpolated, beyond the lowest and the highest it keeps
+///   their x and y, and with no stem point it is the axis itself. The parts the map does
+///   not show yet, hidden behind leaves, are where attention has to go: predicting only
+///   along the seen stem drew the views back to what was seen (docs/results.md, "ROIs
+///   predicted from the plant's structure").
 /// - The plant's top: the highest occupied voxel within top_radius_m of the axis, below
 ///   height_m (none: height_m). Above it is air, where no node grows; predicting there
 ///   drew views to empty space above plants shorter than the sector (0.45-0.70 m plants
