@@ -90,8 +90,9 @@ void SimulatedDetector::Config::validate() const
       << ": expected a value in [0, 1000] per frame";
   else if (!(std::isfinite(box_jitter_px) && box_jitter_px >= 0.0))
     s << "box_jitter_px " << box_jitter_px << ": expected a finite value >= 0";
-  else if (std::abs(mask_dilation_px) > 64)
-    s << "mask_dilation_px " << mask_dilation_px << ": expected pixels in [-64, 64]";
+  else if (std::abs(mask_dilation_px) > kMaxMaskDilationPx)
+    s << "mask_dilation_px " << mask_dilation_px << ": expected pixels in ["
+      << -kMaxMaskDilationPx << ", " << kMaxMaskDilationPx << "]";
   if (!s.str().empty())
     throw InvalidArgumentError("SimulatedDetector: " + s.str());
 }

@@ -2,6 +2,7 @@
 #include <cmath>
 #include <sstream>
 
+#include <plantnbv/camera/detection.h>
 #include <plantnbv/common/error.h>
 #include <plantnbv/common/number_text.h>
 #include <plantnbv/common/random.h>
@@ -40,10 +41,9 @@ void RoiSource::validate(const std::string& option_prefix) const
     return option_prefix + name;
   };
   // A value that only the `owners` sources use, set with another source.
-  auto onlyFor = [&](std::ostringstream& s, const char* name, double value,
+  auto onlyFor = [&](std::ostringstream& s, const char* name, const std::string& value,
                      const char* owners) {
-    s << key(name) << " " << shortestText(value) << ": only the " << owners
-      << " ROI source"
+    s << key(name) << " " << value << ": only the " << owners << " ROI source"
       << (std::string(owners).find(" and ") == std::string::npos ? " uses" : "s use")
       << " it (" << key("roi_source") << " is " << roiSourceKindName(kind) << ")";
   };
@@ -65,37 +65,38 @@ void RoiSource::validate(const std::string& option_prefix) const
              detector_box_jitter_px <= 1000.0))
     s << key("detector_box_jitter") << " " << shortestText(detector_box_jitter_px)
       << ": expected a value in [0, 1000] (pixels)";
-  else if (std::abs(detector_mask_dilation_px) > 64)
+  else if (std::abs(detector_mask_dilation_px) > kMaxMaskDilationPx)
     s << key("detector_mask_dilation") << " " << detector_mask_dilation_px
-      << ": expected pixels in [-64, 64]";
+      << ": expected pixels in [" << -kMaxMaskDilationPx << ", " << kMaxMaskDilationPx
+      << "]";
   else if (!(std::isfinite(prior_internode_m) && prior_internode_m > 0.0))
     s << key("prior_internode") << " " << shortestText(prior_internode_m)
       << ": expected a finite value > 0 (metres)";
   else if (kind != RoiSourceKind::noisy && sigma_m != 0.0)
-    onlyFor(s, "roi_sigma", sigma_m, "noisy");
+    onlyFor(s, "roi_sigma", shortestText(sigma_m), "noisy");
   else if (kind != RoiSourceKind::noisy && scale != 1.0)
-    onlyFor(s, "roi_scale", scale, "noisy");
+    onlyFor(s, "roi_scale", shortestText(scale), "noisy");
   else if (!detects() && detector_recall != 1.0)
-    onlyFor(s, "detector_recall", detector_recall, "detections and detections+prior");
+    onlyFor(s, "detector_recall", shortestText(detector_recall),
+            "detections and detections+prior");
   else if (!detects() && detector_false_positives != 0.0)
-    onlyFor(s, "detector_false_positives", detector_false_positives,
+    onlyFor(s, "detector_false_positives", shortestText(detector_false_positives),
             "detections and detections+prior");
   else if (!detects() && detector_box_jitter_px != 0.0)
-    onlyFor(s, "detector_box_jitter", detector_box_jitter_px,
+    onlyFor(s, "detector_box_jitter", shortestText(detector_box_jitter_px),
             "detections and detections+prior");
   else if (!detects() && detector_mask_dilation_px != 0)
-    onlyFor(s, "detector_mask_dilation", detector_mask_dilation_px,
+    onlyFor(s, "detector_mask_dilation", shortestText(detector_mask_dilation_px),
             "detections and detections+prior");
   else if (!detects() && !detector_masks)
-    s << key("detector_masks") << " false: only the detections and detections+prior ROI "
-      << "sources use it (" << key("roi_source") << " is " << roiSourceKindName(kind)
-      << ")";
+    onlyFor(s, "detector_masks", "false", "detections and detections+prior");
   else if (detector_masks && detector_box_jitter_px != 0.0)
     s << key("detector_box_jitter") << " " << shortestText(detector_box_jitter_px)
       << ": the fusion back-projects the detector's masks, not its boxes; set "
       << key("detector_masks") << " false for a boxes-only detector";
   else if (!predicts() && prior_internode_m != RoiSource().prior_internode_m)
-    onlyFor(s, "prior_internode", prior_internode_m, "prior and detections+prior");
+    onlyFor(s, "prior_internode", shortestText(prior_internode_m),
+            "prior and detections+prior");
   if (!s.str().empty())
     throw InvalidArgumentError(s.str());
 }

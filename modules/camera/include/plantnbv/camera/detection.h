@@ -29,6 +29,11 @@ struct Detection {
   std::vector<std::uint8_t> mask;
 };
 
+/// \brief The most pixels a simulated segmenter's masks grow or shrink by
+/// (SimulatedDetector::Config::mask_dilation_px, RoiSource::detector_mask_dilation_px):
+/// beyond it a leaf node's mask is mostly background or gone.
+constexpr int kMaxMaskDilationPx = 64;
+
 /// \brief The pixels of a detection: its mask's non-zero pixels when it has a mask (the
 /// box is not applied to them), else the pixels whose centres lie in its box (u0 <= u +
 /// 0.5 <= u1, v0 <= v + 0.5 <= v1), the box clipped to the image.
