@@ -62,16 +62,20 @@ struct PlanOptions {
   int top = 0;
 };
 
-/// The ROI: a file, or the paper's whole-plant / main-stem box on the sector's axis.
-Roi planRoi(const std::string& spec, const Eigen::Vector3d& axis_base)
+/// --roi: an ROI file, whole_plant or main_stem. \throws InvalidArgumentError naming it.
+scenario::Attention parseRoiOption(const std::string& spec)
 {
-  const scenario::Attention attention = [&] {
-    try {
-      return scenario::Attention::parse(spec);
-    } catch (const InvalidArgumentError& e) {
-      throw InvalidArgumentError(std::string("--roi: ") + e.what());
-    }
-  }();
+  try {
+    return scenario::Attention::parse(spec);
+  } catch (const InvalidArgumentError& e) {
+    throw InvalidArgumentError(std::string("--roi: ") + e.what());
+  }
+}
+
+/// The ROI: a file, or the paper's whole-plant / main-stem box on the sector's axis.
+Roi planRoi(const scenario::Attention& attention, const std::string& spec,
+            const Eigen::Vector3d& axis_base)
+{
   if (!attention.kind)
     return io::loadRoi(attention.file);
   // A vertical stem at the sector's axis: the boxes of plant_rois.h around it.
@@ -105,8 +109,10 @@ Roi givenRoi(const PlanOptions& o, const RoiSource& source,
         option + ": the prior predicts the ROI from the map, --roi " + *o.roi +
         " is not used (detections+prior adds a --roi file of "
         "detections to the prediction)");
-  const Roi given = planRoi(o.roi.value_or("whole_plant"), axis_base);
-  if (source.detects() && (!o.roi || scenario::Attention::parse(*o.roi).kind))
+  const std::string spec = o.roi.value_or("whole_plant");
+  const scenario::Attention attention = parseRoiOption(spec);
+  const Roi given = planRoi(attention, spec, axis_base);
+  if (source.detects() && (!o.roi || attention.kind))
     throw InvalidArgumentError(option +
                                ": give the detections' 3D boxes as --roi FILE "
                                "(`plantnbv integrate FRAMES --roi-out ROI.yaml` fuses a "
