@@ -233,9 +233,14 @@ void runPlan(const PlanOptions& o)
   }
   if (current)
     session.setCurrentView(bodyFrame(*current));
-  // A saved map keeps no poses: the view spacing needs the frames' positions (--visited).
+  // A saved map keeps no poses: the view spacing and the detections' exploring views
+  // need the frames' positions (--visited). Exploring ranks by the gain in the paper's
+  // whole-plant box on the sector's axis, as a trial's planner does on its plant's.
   if (auto* nbv = dynamic_cast<AttentionNbvPlanner*>(&session.getPlanner())) {
     nbv->setViewSpacing(config.view_spacing_m);
+    nbv->setExploration(config.explore_share, planRoi(parseRoiOption("whole_plant"),
+                                                      "whole_plant", sector.axis_base));
+    nbv->setExplorationViews(config.roi_source.explorationViews());
     if (!o.visited.empty())
       for (const io::StampedPose& p : io::readTumTrajectory(o.visited))
         nbv->addVisitedPosition(p.pose.position);
@@ -248,6 +253,13 @@ void runPlan(const PlanOptions& o)
               << "' is a .bt map (occupied / free only): the planner sees no uncertainty "
                  "in it; `plantnbv integrate` writes .ot maps that keep it\n";
   const Roi roi = attendedRoi(given, config, *session.getMap());
+  const std::size_t views_taken = session.getPlanner().getVisitedPositions().size();
+  const int explore_views = config.roi_source.explorationViews();
+  const std::string explore_reason =
+      explore_views > 0 && views_taken <= static_cast<std::size_t>(explore_views)
+          ? "--roi-source detections, " + std::to_string(views_taken) +
+                (views_taken == 1 ? " view" : " views") + " taken (--visited)"
+          : "the config's explore_share";
   session.setRoi(roi);
   const bool meets = roiMeetsMap(roi, *session.getMap());
 
@@ -286,6 +298,7 @@ void runPlan(const PlanOptions& o)
     j["roi_source"] = roiSourceKindName(config.roi_source.kind);
     j["attended_roi"] = roiBoxesJson(roi);
     j["roi_meets_map"] = meets;
+    j["explored"] = r.explored;
     j["all_gains_zero"] = all_zero;
     j["best"] = viewJson(next.ranking.front());
     j["candidates"] = nlohmann::json::array();
@@ -320,6 +333,10 @@ void runPlan(const PlanOptions& o)
     std::cout << "note: the ROI lies outside the map's known volume\n";
   if (all_zero)
     std::cout << "note: " << zero_note << "\n";
+  if (r.explored)
+    std::cout << "note: exploring (" << explore_reason
+              << "): the best view has the most gain in the whole plant's box; the gains "
+                 "below are the ROI's\n";
   const RankedView& best = next.ranking.front();
   std::cout << "best view: candidate " << best.index << ", gain " << std::setprecision(1)
             << best.gain.gain << " bits, " << best.gain.voxels_seen

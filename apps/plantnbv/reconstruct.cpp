@@ -133,6 +133,7 @@ nlohmann::json summaryJson(const ReconstructOptions& o, const PlacedPlant& place
         {"detector_mask_dilation", c.roi_source.detector_mask_dilation_px},
         {"detector_masks", c.roi_source.detector_masks},
         {"prior_internode", c.roi_source.prior_internode_m},
+        {"detections_explore_views", c.roi_source.detections_explore_views},
         {"seed", roiSourceSeed(c.seed)}}},
       {"views", c.views},
       {"candidates", c.grid_rows * c.grid_cols * c.samples_per_cell},

@@ -28,6 +28,12 @@ void addRoiSourceOptions(CLI::App& cmd, scenario::RoiSourceOverrides& o,
   cmd.add_option("--prior-internode", o.prior_internode_m,
                  "prior: distance between leaf nodes along the stem, metres (default "
                  "0.04)");
+  cmd.add_option("--detections-explore-views", o.detections_explore_views,
+                 std::string("detections: explore the whole plant while at most this "
+                             "many views have been taken") +
+                     (simulation ? "" : " (--visited's poses; none given: 0)") +
+                     ", then attend to the finds (default 1; 0: attend from the first "
+                     "plan)");
   if (!simulation)
     return;
   cmd.add_option("--detector-recall", o.detector_recall,

@@ -1,7 +1,7 @@
 #pragma once
 // Where the attention ROI comes from, the same options in reconstruct and plan:
-// --roi-source, --roi-sigma, --roi-scale, --prior-internode; in reconstruct also the
-// simulated detector's.
+// --roi-source, --roi-sigma, --roi-scale, --prior-internode, --detections-explore-views;
+// in reconstruct also the simulated detector's.
 
 #include <nlohmann/json_fwd.hpp>
 

@@ -291,7 +291,8 @@ void bindExperiment(py::module_& m)
          std::optional<double> detector_false_positives,
          std::optional<double> detector_box_jitter,
          std::optional<int> detector_mask_dilation, std::optional<bool> detector_masks,
-         std::optional<double> prior_internode, std::optional<Path> config,
+         std::optional<double> prior_internode,
+         std::optional<int> detections_explore_views, std::optional<Path> config,
          std::optional<Path> map_out, const py::object& progress) {
         scenario::TrialOverrides o;
         o.config_file = config ? config->string() : "";
@@ -316,6 +317,7 @@ void bindExperiment(py::module_& m)
         o.roi.detector_mask_dilation_px = detector_mask_dilation;
         o.roi.detector_masks = detector_masks;
         o.roi.prior_internode_m = prior_internode;
+        o.roi.detections_explore_views = detections_explore_views;
         return runTrial(placed, planner, attention, o, row_spacing_m, map_out, progress);
       },
       "plant"_a, py::kw_only(), "planner"_a = "nbv", "attention"_a = "whole_plant",
@@ -328,7 +330,8 @@ void bindExperiment(py::module_& m)
       "detector_recall"_a = py::none(), "detector_false_positives"_a = py::none(),
       "detector_box_jitter"_a = py::none(), "detector_mask_dilation"_a = py::none(),
       "detector_masks"_a = py::none(), "prior_internode"_a = py::none(),
-      "config"_a = py::none(), "map_out"_a = py::none(), "progress"_a = py::none(),
+      "detections_explore_views"_a = py::none(), "config"_a = py::none(),
+      "map_out"_a = py::none(), "progress"_a = py::none(),
       "One trial on a PlacedPlant, as `plantnbv reconstruct` runs it (the same seed "
       "gives "
       "the same steps): capture at v0, then plan, capture, integrate up to `views`, "
@@ -339,7 +342,8 @@ void bindExperiment(py::module_& m)
       "`roi_sigma` (metres), `roi_scale`, `detector_recall`, `detector_false_positives`, "
       "`detector_box_jitter` (pixels), `detector_mask_dilation` (pixels), "
       "`detector_masks` (False: boxes only), "
-      "`prior_internode` (metres): where the attended ROI comes from, as the options of "
+      "`prior_internode` (metres), `detections_explore_views`: where the attended ROI "
+      "comes from, as the options of "
       "the same names); `sector_radius_m` and `row_spacing_m` (a neighbour plant this "
       "far on each side; 0: alone) as --sector-radius and --row-spacing; "
       "`progress(step)` is called after every view; "

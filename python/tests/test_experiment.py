@@ -95,12 +95,13 @@ def test_a_noisy_roi_source_is_reconstructs(placed, cli, tmp_path):
 def test_a_detections_roi_source_is_reconstructs(placed, cli, tmp_path):
     cli("reconstruct", "--plant", 3, "--views", 2, "--seed", 5, "--attention", "leaf_nodes",
         "--roi-source", "detections", "--detector-recall", 0.8, "--detector-box-jitter", 3,
-        "--detector-mask-dilation", 2, "--detector-masks", "false", "-o", tmp_path / "tool")
+        "--detector-mask-dilation", 2, "--detector-masks", "false",
+        "--detections-explore-views", 0, "-o", tmp_path / "tool")
     tool = steps_csv(tmp_path / "tool" / "steps.csv")
     ours = pn.run_trial(placed, attention="leaf_nodes", views=2, seed=5,
                         roi_source="detections", detector_recall=0.8,
                         detector_box_jitter=3, detector_mask_dilation=2,
-                        detector_masks=False)
+                        detector_masks=False, detections_explore_views=0)
     for column, values in tool.items():
         if not column.endswith("_ms"):
             np.testing.assert_array_equal(ours.columns()[column], values, err_msg=column)

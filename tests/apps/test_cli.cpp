@@ -1229,6 +1229,23 @@ TEST_F(RealRobotCliTest, ATrialsDetectionsReplayToItsRoiAndThePlanUsesIt)
       planJson("--map " + path("m.ot") + " --roi " + path("nodes.yaml"));
   EXPECT_EQ(plan["roi_meets_map"], true);
   EXPECT_EQ(plan["all_gains_zero"], false);
+  EXPECT_EQ(plan["explored"], false);
+
+  // Detections alone explore while at most one view was taken (--visited): the best
+  // view is the whole plant's.
+  std::istringstream trajectory(slurp(path("F/groundtruth.txt")));
+  std::string line;
+  while (std::getline(trajectory, line) && line.rfind("#", 0) == 0) {
+  }
+  std::ofstream(path("first.txt")) << line << "\n";
+  const std::string detections = "--map " + path("m.ot") + " --roi " +
+                                 path("nodes.yaml") + " --roi-source detections";
+  const nlohmann::json first = planJson(detections + " --visited " + path("first.txt"));
+  EXPECT_EQ(first["explored"], true);
+  EXPECT_EQ(first["best"]["index"], planJson("--map " + path("m.ot") + " --visited " +
+                                             path("first.txt"))["best"]["index"]);
+  EXPECT_EQ(planJson(detections + " --visited " + path("F/groundtruth.txt"))["explored"],
+            false);
 
   // Another class finds nothing: no ROI file (an earlier one is removed), a warning.
   fs::copy_file(path("nodes.yaml"), path("fruit.yaml"));
@@ -1322,7 +1339,8 @@ TEST_F(RealRobotCliTest, PlanPredictsLeafNodesAlongTheStemAndAddsTheDetections)
   }
 
   // detections+prior: the detections' file first, then the same prediction; plain
-  // detections: the file as it is, as the oracle takes it.
+  // detections: the file as it is, as the oracle takes it (attending from the first
+  // plan; without --visited it would explore: no view taken).
   std::ofstream(path("nodes.yaml")) << "boxes:\n  - {name: node_a, center: [1.0, 0.0, "
                                        "1.05], size: [0.04, 0.04, 0.06]}\n";
   const std::string nodes = "--map " + path("m.ot") + " --roi " + path("nodes.yaml");
@@ -1332,7 +1350,8 @@ TEST_F(RealRobotCliTest, PlanPredictsLeafNodesAlongTheStemAndAddsTheDetections)
   EXPECT_EQ(attended[0]["name"], "node_a");
   for (std::size_t k = 0; k < predicted.size(); ++k)
     EXPECT_EQ(attended[k + 1], predicted[k]) << k;
-  const nlohmann::json found = planJson(nodes + " --roi-source detections");
+  const nlohmann::json found =
+      planJson(nodes + " --roi-source detections --detections-explore-views 0");
   EXPECT_EQ(found["attended_roi"].size(), 1u);
   EXPECT_EQ(found["candidates"], planJson(nodes)["candidates"]);
   EXPECT_NE(found["candidates"], both["candidates"]);

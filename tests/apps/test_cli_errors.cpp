@@ -323,6 +323,14 @@ const std::vector<BadCall> kBadCalls = {
     {"reconstruct --plant 1 --roi-source prior --prior-internode 0 -o {d}/x", 1,
      "--prior-internode 0: expected a finite value > 0 (metres)"},
     {"plan --map {d}/m.ot --detector-recall 0.5", 2, "--detector-recall"},
+    {"reconstruct --plant 1 --roi-source prior --detections-explore-views 0 -o {d}/x", 1,
+     "--detections-explore-views 0: only the detections ROI source uses it "
+     "(--roi-source is prior)"},
+    {"reconstruct --plant 1 --roi-source detections --detections-explore-views -1 -o "
+     "{d}/x",
+     1,
+     "--detections-explore-views -1: expected views in [0, 1000] (0: attend from the "
+     "first plan)"},
     {"integrate {d}/good -o {d}/m.ot --roi-out {d}/r.txt", 1,
      "--roi-out '{d}/r.txt': expected a file name ending in .yaml"},
     {"integrate {d}/good -o {d}/m.ot --roi-out {d}/r.yaml --roi-class ''", 1,

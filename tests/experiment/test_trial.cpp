@@ -262,6 +262,31 @@ TEST(Trial, DetectionsFindTheLeafNodesAndWithoutFindsTheTrialExplores)
   expectSameSteps(explored, runTrial(plain, plant, Roi()));
 }
 
+TEST(Trial, DetectionsAloneExploreTheWholePlantAfterTheFirstView)
+{
+  // The first plan ranks by the whole plant's gain (RoiSource::detections_explore_views
+  // 1): the view of NBV-whole-plant, whatever v0's finds; with 0 the finds' own.
+  const auto plant = plantAt(2, 60.0);
+  TrialConfig config = smallConfig(PlannerKind::nbv, 3);
+  config.seed = 5;
+  const TrialResult whole = runTrial(config, plant, wholePlantRoi(*plant));
+  config.roi_source.kind = RoiSourceKind::detections;
+  auto run = [&](const TrialConfig& c) {
+    const auto trial = setUpTrial(c, plant, leafNodeRoi(*plant));
+    trial->setExplorationRoi(wholePlantRoi(*plant));
+    TrialResult result;
+    trial->run(result);
+    return result;
+  };
+  const TrialResult explores = run(config);
+  EXPECT_EQ(explores.steps[1].view.position, whole.steps[1].view.position);
+  config.roi_source.detections_explore_views = 0;
+  const TrialResult attends = run(config);
+  EXPECT_NE(attends.steps[1].view.position, whole.steps[1].view.position);
+  config.roi_source.kind = RoiSourceKind::prior; // only detections alone explore
+  EXPECT_THROW(Trial{config}, InvalidArgumentError);
+}
+
 TEST(Trial, ThePriorPredictsNodesOnTheStemAndTheDetectionsComeFirst)
 {
   const auto plant = plantAt(2, 60.0);

@@ -170,6 +170,41 @@ TEST(AttentionNbvPlanner, ExploresOnceTheRoiHasLittleLeftToGive)
     EXPECT_THROW(planner->setExploration(bad), InvalidArgumentError);
 }
 
+TEST(AttentionNbvPlanner, ExploresWhileFewViewsHaveBeenTaken)
+{
+  // The ROI is kBox, which kClear sees; the region only kAway sees (as above). Up to
+  // `views` visited positions the region's gain ranks the candidates, then the ROI's.
+  const auto map = std::make_shared<const OccupancyMap>();
+  const Roi region({Box(Eigen::Vector3d(0.2, 0.0, 1.1), Eigen::Vector3d(0.1, 0.1, 0.1))});
+  auto planner = makePlanner<AttentionNbvPlanner>(
+      map, std::make_shared<FixedSampler>(std::vector<Viewpoint>{kClear, kAway}));
+  planner->setViewSpacing(0.0);
+  planner->setExploration(0.0, region); // the share's rule off
+  planner->setExplorationViews(1);
+  EXPECT_EQ(planner->getExplorationViews(), 1);
+  NextViewResult result;
+  planner->addVisitedPosition(Eigen::Vector3d(0.0, 0.0, 1.0));
+  planner->compute(result);
+  EXPECT_TRUE(result.explored);
+  EXPECT_EQ(result.chosen, 1u);
+  EXPECT_EQ(result.utility,
+            referenceInformationGain(*map, region, planner->getGainConfig(), kAway).gain);
+
+  planner->addVisitedPosition(Eigen::Vector3d(0.0, 0.0, 1.0));
+  planner->compute(result);
+  EXPECT_FALSE(result.explored); // two views taken
+  EXPECT_EQ(result.chosen, 0u);
+  planner->setExplorationViews(2);
+  planner->compute(result);
+  EXPECT_TRUE(result.explored);
+  planner->setExplorationViews(0); // the default: never
+  planner->clearVisitedPositions();
+  planner->compute(result);
+  EXPECT_FALSE(result.explored);
+  EXPECT_EQ(result.chosen, 0u);
+  EXPECT_THROW(planner->setExplorationViews(-1), InvalidArgumentError);
+}
+
 TEST(AttentionNbvPlanner, ViewSpacingPassesOverCandidatesNearVisitedPositions)
 {
   const auto map = std::make_shared<const OccupancyMap>();

@@ -74,15 +74,19 @@ TEST(CampaignFile, AnNbvPlannerCanHaveANoisyRoiSourceThatNamesItAndReachesItsTri
           "detector_recall: 0.8, detector_false_positives: 1}\n"
           "      - {type: random}\n"
           "      - {type: nbv, attention: leaf-nodes, roi_source: detections, "
-          "detector_box_jitter: 2, detector_mask_dilation: -1, detector_masks: false}\n",
+          "detector_box_jitter: 2, detector_mask_dilation: -1, detector_masks: false, "
+          "detections_explore_views: 0}\n",
       "t.yaml");
   const std::vector<TrialSpec> specs = expandCampaign(f.definition);
   ASSERT_EQ(specs.size(), 7u);
-  EXPECT_EQ(specs[6].planner, "nbv-leaf-nodes-detections-jitter2px-dilation-1px-boxes");
+  EXPECT_EQ(specs[6].planner,
+            "nbv-leaf-nodes-detections-jitter2px-dilation-1px-boxes-explore0");
   const TrialConfig c6 = campaignTrialConfig(f, specs[6]);
   EXPECT_EQ(c6.roi_source.detector_box_jitter_px, 2.0);
   EXPECT_EQ(c6.roi_source.detector_mask_dilation_px, -1);
   EXPECT_FALSE(c6.roi_source.detector_masks);
+  EXPECT_EQ(c6.roi_source.detections_explore_views, 0);
+  EXPECT_EQ(campaignTrialConfig(f, specs[4]).roi_source.detections_explore_views, 1);
   EXPECT_EQ(specs[4].planner, "nbv-leaf-nodes-detections-recall0.8-fp1");
   const TrialConfig c4 = campaignTrialConfig(f, specs[4]);
   EXPECT_EQ(c4.roi_source.kind, RoiSourceKind::detections);

@@ -145,10 +145,15 @@ TEST_F(TrialConfigFile, ItsTextLoadsBackToTheSameValues)
   predefined.planner = PlannerKind::predefined;
   predefined.pattern = 3;
   const TrialConfig predefined_back = roundTrip(predefined, "predefined.yaml");
+  TrialConfig attending;
+  attending.roi_source.kind = RoiSourceKind::detections;
+  attending.roi_source.detections_explore_views = 0;
+  EXPECT_EQ(roundTrip(attending, "attending.yaml").roi_source.detections_explore_views,
+            0);
   EXPECT_EQ(predefined_back.planner, PlannerKind::predefined);
   EXPECT_EQ(predefined_back.pattern, 3);
 
-  // Between them the three set every line away from the defaults': every key is written.
+  // Between them the four set every line away from the defaults': every key is written.
   const auto lines = [](const TrialConfig& config) {
     std::istringstream in(scenario::trialConfigText(config));
     std::vector<std::string> out;
@@ -158,11 +163,11 @@ TEST_F(TrialConfigFile, ItsTextLoadsBackToTheSameValues)
   };
   const std::vector<std::string> defaults = lines(TrialConfig());
   const std::vector<std::vector<std::string>> set = {lines(c), lines(detections),
-                                                     lines(predefined)};
-  ASSERT_EQ(defaults.size(), 26u);
+                                                     lines(predefined), lines(attending)};
+  ASSERT_EQ(defaults.size(), 27u);
   for (std::size_t i = 0; i < defaults.size(); ++i)
     EXPECT_TRUE(set[0][i] != defaults[i] || set[1][i] != defaults[i] ||
-                set[2][i] != defaults[i])
+                set[2][i] != defaults[i] || set[3][i] != defaults[i])
         << "no config sets " << defaults[i];
   // A preset camera is written by its name.
   EXPECT_EQ(defaults[0], "camera: l515-640");

@@ -69,6 +69,9 @@ TEST(Attention, PlannerNamesKeepThePapersSpelling)
   detections.detector_false_positives = 2;
   EXPECT_EQ(nbvPlannerName(Attention::parse("leaf_nodes"), detections),
             "nbv-leaf-nodes-detections-recall0.8-fp2");
+  detections.detections_explore_views = 0;
+  EXPECT_EQ(nbvPlannerName(Attention::parse("leaf_nodes"), detections),
+            "nbv-leaf-nodes-detections-recall0.8-fp2-explore0");
   RoiSource prior;
   prior.kind = RoiSourceKind::prior;
   EXPECT_EQ(nbvPlannerName(Attention::parse("leaf_nodes"), prior),

@@ -51,6 +51,7 @@ ViewPlanner::Ptr makePlanner(const TrialConfig& c, const Roi& exploration)
     auto planner = std::make_shared<AttentionNbvPlanner>();
     planner->setStopGain(c.stop_gain_bits);
     planner->setExploration(c.explore_share, exploration);
+    planner->setExplorationViews(c.roi_source.explorationViews());
     planner->setViewSpacing(c.view_spacing_m);
     return planner;
   }

@@ -117,6 +117,14 @@ void AttentionNbvPlanner::setExploration(double share, const Roi& region)
   peak_gain_ = 0.0;
 }
 
+void AttentionNbvPlanner::setExplorationViews(int views)
+{
+  if (views < 0)
+    throw InvalidArgumentError("AttentionNbvPlanner::setExplorationViews: views = " +
+                               std::to_string(views) + " must be >= 0 (0: never)");
+  explore_views_ = views;
+}
+
 void AttentionNbvPlanner::setViewSpacing(double spacing_m)
 {
   if (!(std::isfinite(spacing_m) && spacing_m >= 0.0)) {
@@ -176,7 +184,9 @@ void AttentionNbvPlanner::compute(NextViewResult& out)
   for (const ViewGain& g : gains_)
     max_gain = std::max(max_gain, g.gain);
   peak_gain_ = std::max(peak_gain_, max_gain);
-  out.explored = explore_share_ > 0.0 && max_gain < explore_share_ * peak_gain_;
+  out.explored = (explore_views_ > 0 &&
+                  visited_W_.size() <= static_cast<std::size_t>(explore_views_)) ||
+                 (explore_share_ > 0.0 && max_gain < explore_share_ * peak_gain_);
 
   std::size_t best;
   double best_utility;

@@ -200,6 +200,10 @@ CampaignPlanner readPlanner(const YamlReader& r, const YAML::Node& node,
        {"prior_internode", roiKey([&](const YAML::Node& n, const std::string& k) {
           roi_source.prior_internode_m = r.read<double>(n, k, "a number (metres)");
         })},
+       {"detections_explore_views",
+        roiKey([&](const YAML::Node& n, const std::string& k) {
+          roi_source.detections_explore_views = r.read<int>(n, k, "views (integer)");
+        })},
        {"patterns", [&](const YAML::Node& n, const std::string& k) {
           planner.patterns = r.readList<int>(n, k, "patterns 1-4");
           for (std::size_t i = 0; i < planner.patterns.size(); ++i)

@@ -111,6 +111,8 @@ void readTrialConfig(const YamlReader& r, const YAML::Node& root, const std::str
         into(r, c.roi_source.detector_mask_dilation_px, integer)},
        {"detector_masks", into(r, c.roi_source.detector_masks, boolean)},
        {"prior_internode", into(r, c.roi_source.prior_internode_m, number)},
+       {"detections_explore_views",
+        into(r, c.roi_source.detections_explore_views, integer)},
        {"stop_gain_bits", into(r, c.stop_gain_bits, number)},
        {"explore_share", into(r, c.explore_share, number)},
        {"view_spacing", into(r, c.view_spacing_m, number)},
@@ -190,6 +192,7 @@ std::string trialConfigText(const TrialConfig& c)
     << "detector_mask_dilation: " << c.roi_source.detector_mask_dilation_px << "\n"
     << "detector_masks: " << (c.roi_source.detector_masks ? "true" : "false") << "\n"
     << "prior_internode: " << n(c.roi_source.prior_internode_m) << "\n"
+    << "detections_explore_views: " << c.roi_source.detections_explore_views << "\n"
     << "stop_gain_bits: " << n(c.stop_gain_bits) << "\n"
     << "explore_share: " << n(c.explore_share) << "\n"
     << "view_spacing: " << n(c.view_spacing_m) << "\n"

@@ -62,6 +62,8 @@ std::string nbvPlannerName(const Attention& attention, const RoiSource& source)
       s << "-boxes";
     if (source.prior_internode_m != RoiSource().prior_internode_m)
       s << "-internode" << source.prior_internode_m * 1000.0 << "mm";
+    if (source.detections_explore_views != RoiSource().detections_explore_views)
+      s << "-explore" << source.detections_explore_views;
   }
   name += s.str();
   return name;
@@ -152,6 +154,8 @@ void RoiSourceOverrides::applyTo(RoiSource& roi, const std::string& option_prefi
     }
     if (!roi.predicts())
       roi.prior_internode_m = defaults.prior_internode_m;
+    if (roi.kind != RoiSourceKind::detections)
+      roi.detections_explore_views = defaults.detections_explore_views;
   }
   if (sigma_m)
     roi.sigma_m = *sigma_m;
@@ -169,6 +173,8 @@ void RoiSourceOverrides::applyTo(RoiSource& roi, const std::string& option_prefi
     roi.detector_masks = *detector_masks;
   if (prior_internode_m)
     roi.prior_internode_m = *prior_internode_m;
+  if (detections_explore_views)
+    roi.detections_explore_views = *detections_explore_views;
   roi.validate(option_prefix);
 }
 

@@ -69,6 +69,9 @@ void RoiSource::validate(const std::string& option_prefix) const
     s << key("detector_mask_dilation") << " " << detector_mask_dilation_px
       << ": expected pixels in [" << -kMaxMaskDilationPx << ", " << kMaxMaskDilationPx
       << "]";
+  else if (detections_explore_views < 0 || detections_explore_views > 1000)
+    s << key("detections_explore_views") << " " << detections_explore_views
+      << ": expected views in [0, 1000] (0: attend from the first plan)";
   else if (!(std::isfinite(prior_internode_m) && prior_internode_m > 0.0))
     s << key("prior_internode") << " " << shortestText(prior_internode_m)
       << ": expected a finite value > 0 (metres)";
@@ -94,6 +97,10 @@ void RoiSource::validate(const std::string& option_prefix) const
     s << key("detector_box_jitter") << " " << shortestText(detector_box_jitter_px)
       << ": the fusion back-projects the detector's masks, not its boxes; set "
       << key("detector_masks") << " false for a boxes-only detector";
+  else if (kind != RoiSourceKind::detections &&
+           detections_explore_views != RoiSource().detections_explore_views)
+    onlyFor(s, "detections_explore_views", std::to_string(detections_explore_views),
+            "detections");
   else if (!predicts() && prior_internode_m != RoiSource().prior_internode_m)
     onlyFor(s, "prior_internode", shortestText(prior_internode_m),
             "prior and detections+prior");

@@ -161,6 +161,15 @@ public:
   void setExploration(double share, const Roi& region = Roi());
   /// \brief The exploration share (0: never explores).
   double getExplorationShare() const { return explore_share_; }
+  /// \brief Beyond the paper: while at most `views` views have been taken (the visited
+  /// positions, addVisitedPosition), the candidates are ranked by their gain in
+  /// setExploration's region, whatever the ROI's gain. For an ROI that knows only what
+  /// the frames showed (detections): after one view it holds the nodes that view saw,
+  /// and a view chosen for them rarely shows the hidden ones (docs/planning.md). 0
+  /// (default): never. \throws InvalidArgumentError for views < 0.
+  void setExplorationViews(int views);
+  /// \brief The views up to which the planner explores (0: none).
+  int getExplorationViews() const { return explore_views_; }
   /// \brief Beyond the paper: a candidate closer than `spacing_m` to a visited position
   /// (addVisitedPosition) is chosen only when every candidate is; greedy views otherwise
   /// cluster where the gain's sparse rays still see something, and leave parts of the
@@ -197,6 +206,7 @@ private:
   double stop_gain_ = 0.0;
   double travel_cost_weight_ = 0.0;
   double explore_share_ = 0.0;
+  int explore_views_ = 0;
   double view_spacing_m_ = kDefaultViewSpacingM;
   double peak_gain_ = 0.0;       ///< the largest best ROI gain since setExploration()
   InformationGain explore_gain_; ///< the gain in the exploration region

@@ -67,8 +67,9 @@ void fitSectorToPlant(const PlacedPlant& placed, std::optional<double> sector_he
 
 /// \brief What `--roi-source`, `--roi-sigma`, `--roi-scale`, `--detector-recall`,
 /// `--detector-false-positives`, `--detector-box-jitter`, `--detector-mask-dilation`,
-/// `--detector-masks` and `--prior-internode` (reconstruct; plan those of the noisy and
-/// prior sources) and Python's keywords of the same names set over a config's RoiSource.
+/// `--detector-masks`, `--prior-internode` and `--detections-explore-views`
+/// (reconstruct; plan those of the noisy, prior and detections sources) and Python's
+/// keywords of the same names set over a config's RoiSource.
 struct RoiSourceOverrides {
   std::optional<std::string> source;              ///< oracle, noisy, detections
   std::optional<double> sigma_m;                  ///< RoiSource::sigma_m
@@ -79,6 +80,7 @@ struct RoiSourceOverrides {
   std::optional<int> detector_mask_dilation_px;   ///< RoiSource::..._mask_dilation_px
   std::optional<bool> detector_masks;             ///< RoiSource::detector_masks
   std::optional<double> prior_internode_m;        ///< RoiSource::prior_internode_m
+  std::optional<int> detections_explore_views;    ///< RoiSource::detections_explore_views
 
   /// \brief Sets what is given over `roi` and validates it. Messages name the overrides
   /// as `option_prefix` + "roi-source" etc. (or the config keys without a prefix).

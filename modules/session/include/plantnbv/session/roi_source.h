@@ -57,6 +57,12 @@ struct RoiSource {
   /// prior: the distance between successive leaf nodes along the stem (metres;
   /// LeafNodePrior's default, from the generator's plants).
   double prior_internode_m = 0.04;
+  /// detections (alone): while at most this many views have been taken, the NBV planner
+  /// explores the whole plant instead of attending to the finds
+  /// (AttentionNbvPlanner::setExplorationViews): one view's finds are the nodes it saw,
+  /// and the hidden ones are found by showing more of the plant. The prior predicts
+  /// those, so detections+prior needs none. 0: attend from the first plan.
+  int detections_explore_views = 1;
 
   /// \brief True for the sources whose ROI follows the frames (detections, prior, both).
   bool followsFrames() const { return detects() || predicts(); }
@@ -73,10 +79,17 @@ struct RoiSource {
 
   /// \throws InvalidArgumentError for a negative or non-finite sigma, a scale that is
   /// not finite and positive, a recall outside [0, 1], false positives outside [0, 1000],
-  /// or a value set that the source does not use (a sigma with the oracle: it would be
-  /// ignored). The message names the config keys (`roi_sigma`), or with an
-  /// `option_prefix` the options ("--" gives `--roi-sigma`).
+  /// exploring views outside [0, 1000], or a value set that the source does not use (a
+  /// sigma with the oracle: it would be ignored). The message names the config keys
+  /// (`roi_sigma`), or with an `option_prefix` the options ("--" gives `--roi-sigma`).
   void validate(const std::string& option_prefix = "") const;
+
+  /// \brief The views up to which the NBV planner explores:
+  /// detections_explore_views for detections, 0 for the other sources.
+  int explorationViews() const
+  {
+    return kind == RoiSourceKind::detections ? detections_explore_views : 0;
+  }
 
   /// \brief The prior's rules: LeafNodePrior's defaults, one internode of
   /// prior_internode_m apart.
