@@ -53,6 +53,7 @@ struct PlanOptions {
   std::vector<double> current_pose;
   std::optional<double> travel_cost;
   std::string visited;
+  std::string stem_roi; ///< prior: boxes of detected stem parts
   std::string camera = "l515-640";
   std::optional<std::uint64_t> seed;
   std::optional<int> threads;
@@ -122,8 +123,10 @@ Roi givenRoi(const PlanOptions& o, const RoiSource& source,
 
 /// The attended ROI: oracle and noisy take the given boxes (the noisy draw seeded by
 /// --seed); detections takes them as they are; prior predicts leaf nodes along the stem
-/// in the map, and detections+prior adds the given boxes to that prediction.
-Roi attendedRoi(const Roi& given, const TrialConfig& config, const OccupancyMap& map)
+/// in the map (or along the detected stem parts of --stem-roi), and detections+prior
+/// adds the given boxes to that prediction.
+Roi attendedRoi(const Roi& given, const Roi& stem, const TrialConfig& config,
+                const OccupancyMap& map)
 {
   const RoiSource& source = config.roi_source;
   if (!source.predicts())
@@ -132,8 +135,10 @@ Roi attendedRoi(const Roi& given, const TrialConfig& config, const OccupancyMap&
                : source.apply(given, roiSourceSeed(config.seed));
   CloudXYZ occupied_W;
   map.getOccupiedVoxelCentres(occupied_W);
-  return LeafNodePrior(source.priorConfig())
-      .predictAround(given, occupied_W, config.sector.axis_base, config.sector.height_m);
+  LeafNodePrior prior(source.priorConfig());
+  prior.setStemObservations(stem);
+  return prior.predictAround(given, occupied_W, config.sector.axis_base,
+                             config.sector.height_m);
 }
 
 Pose parsePose(const std::vector<double>& v, const char* what)
@@ -221,6 +226,12 @@ void runPlan(const PlanOptions& o)
     current = parsePose(o.current_pose, "--current-pose");
   o.roi_source.applyTo(config.roi_source, "--");
   const Roi given = givenRoi(o, config.roi_source, sector.axis_base);
+  if (!o.stem_roi.empty() && !config.roi_source.predicts())
+    throw InvalidArgumentError(
+        "--stem-roi: only the prior and detections+prior ROI sources use it "
+        "(--roi-source is " +
+        std::string(roiSourceKindName(config.roi_source.kind)) + ")");
+  const Roi stem = o.stem_roi.empty() ? Roi() : io::loadRoi(o.stem_roi);
 
   ActiveVisionSession session(sessionConfigOf(config));
   session.setCamera(camera);
@@ -252,7 +263,7 @@ void runPlan(const PlanOptions& o)
     std::cerr << "warning: '" << o.map
               << "' is a .bt map (occupied / free only): the planner sees no uncertainty "
                  "in it; `plantnbv integrate` writes .ot maps that keep it\n";
-  const Roi roi = attendedRoi(given, config, *session.getMap());
+  const Roi roi = attendedRoi(given, stem, config, *session.getMap());
   const std::size_t views_taken = session.getPlanner().getVisitedPositions().size();
   const int explore_views = config.roi_source.explorationViews();
   const std::string explore_reason =
@@ -403,6 +414,10 @@ void addPlanCommand(CLI::App& app)
   cmd->add_option("--threads", o->threads, "Threads (default: all cores)")
       ->transform(threadCount("--threads"));
   addRoiSourceOptions(*cmd, o->roi_source, "--seed", RoiSourceInput::roi_file);
+  cmd->add_option("--stem-roi", o->stem_roi,
+                  "prior: your detector's main-stem finds as an ROI file (`integrate "
+                  "--roi-out STEM.yaml --roi-class main_stem`): the stem runs through "
+                  "their centres instead of the occupied voxels near the sector's axis");
   cmd->add_flag("--json", o->json, "One JSON object: best, candidates, timings");
   cmd->add_flag("--pose-only", o->pose_only,
                 "Print only the best optical pose x,y,z,qx,qy,qz,qw (for scripts)")

@@ -632,29 +632,37 @@ void bindLeafNodePrior(py::module_& m)
       .def(
           "predict",
           [anchors](const LeafNodePrior& prior, const py::handle& occupied,
-                    const CylindricalSector& sector, const py::handle& anchor_points) {
+                    const CylindricalSector& sector, const py::handle& anchor_points,
+                    const Roi& stem) {
             CloudXYZ cloud;
             readPoints(occupied, "occupied", cloud);
             const std::vector<Eigen::Vector3d> a = anchors(anchor_points);
+            LeafNodePrior with_stem = prior;
+            with_stem.setStemObservations(stem);
             py::gil_scoped_release release;
-            return prior.predict(cloud, sector.axis_base, sector.height_m, a);
+            return with_stem.predict(cloud, sector.axis_base, sector.height_m, a);
           },
-          "occupied"_a, "sector"_a, "anchors"_a = py::none(),
+          "occupied"_a, "sector"_a, "anchors"_a = py::none(), "stem"_a = Roi(),
           "The predicted boxes (a Roi) from a map's occupied voxel centres, (N, 3) "
           "world points (Session.map.occupied_centres()), on the sector's axis and up to "
-          "its height; `anchors`, (K, 3): detected nodes to predict from.")
+          "its height; `anchors`, (K, 3): detected nodes to predict from; `stem`: a Roi "
+          "of detected stem parts, through whose centres the stem runs (as plan "
+          "--stem-roi).")
       .def(
           "predict_around",
           [](const LeafNodePrior& prior, const Roi& found, const py::handle& occupied,
-             const CylindricalSector& sector) {
+             const CylindricalSector& sector, const Roi& stem) {
             CloudXYZ cloud;
             readPoints(occupied, "occupied", cloud);
+            LeafNodePrior with_stem = prior;
+            with_stem.setStemObservations(stem);
             py::gil_scoped_release release;
-            return prior.predictAround(found, cloud, sector.axis_base, sector.height_m);
+            return with_stem.predictAround(found, cloud, sector.axis_base,
+                                           sector.height_m);
           },
-          "found"_a, "occupied"_a, "sector"_a,
+          "found"_a, "occupied"_a, "sector"_a, "stem"_a = Roi(),
           "The `detections+prior` ROI: the `found` boxes (e.g. read_roi of `integrate "
-          "--roi-out`), then the prediction.");
+          "--roi-out`), then the prediction (`stem` as in predict).");
 }
 
 } // namespace

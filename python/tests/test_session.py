@@ -87,6 +87,20 @@ def test_the_prior_predicts_what_plan_attends_to(frames, cli, tmp_path):
     np.testing.assert_array_equal([b.center for b in anchored[1:]],
                                   [b.center for b in expected])
     assert any(abs(b.center[2] - 1.09) < 1e-9 for b in expected)  # one internode up
+
+    # Detected stem parts: the stem runs through them, as plan --stem-roi has it.
+    stem = pn.Roi([pn.Box([1.0, 0.05, 1.0], [0.02, 0.02, 0.2], "main_stem_0")])
+    write_roi = tmp_path / "stem.yaml"
+    write_roi.write_text("boxes:\n  - {name: main_stem_0, center: [1.0, 0.05, 1.0], "
+                         "size: [0.02, 0.02, 0.2]}\n")
+    tool = cli("plan", "--map", tmp_path / "m.ot", "--roi-source", "prior", "--stem-roi",
+               write_roi, "--json", parse_json=True)["attended_roi"]
+    along = prior.predict(occupied, sector, stem=stem)
+    np.testing.assert_array_equal([b.center for b in along], [b["center"] for b in tool])
+    assert all(b.center[1] == 0.05 for b in along)
+    np.testing.assert_array_equal(
+        [b.center for b in prior.predict_around(pn.Roi(), occupied, sector, stem=stem)],
+        [b.center for b in along])
     with pytest.raises(ValueError, match="internode_m"):
         pn.LeafNodePrior(internode_m=0)
 

@@ -1338,6 +1338,18 @@ TEST_F(RealRobotCliTest, PlanPredictsLeafNodesAlongTheStemAndAddsTheDetections)
     EXPECT_LT(std::hypot(c[0].get<double>() - 1.0, c[1].get<double>()), 0.03) << k;
   }
 
+  // Detected stem parts (--stem-roi): the same heights, on the stem through their
+  // centres (one part: a vertical stem through it).
+  std::ofstream(path("stem.yaml")) << "boxes:\n  - {name: main_stem_0, center: [1.0, "
+                                      "0.05, 1.0], size: [0.02, 0.02, 0.2]}\n";
+  const nlohmann::json stem = planJson(
+      "--map " + path("m.ot") + " --roi-source prior --stem-roi " + path("stem.yaml"));
+  ASSERT_EQ(stem["attended_roi"].size(), predicted.size());
+  for (std::size_t k = 0; k < predicted.size(); ++k) {
+    EXPECT_EQ(stem["attended_roi"][k]["center"][2], predicted[k]["center"][2]) << k;
+    EXPECT_EQ(stem["attended_roi"][k]["center"][1], 0.05) << k;
+  }
+
   // detections+prior: the detections' file first, then the same prediction; plain
   // detections: the file as it is, as the oracle takes it (attending from the first
   // plan; without --visited it would explore: no view taken).

@@ -323,6 +323,9 @@ const std::vector<BadCall> kBadCalls = {
     {"reconstruct --plant 1 --roi-source prior --prior-internode 0 -o {d}/x", 1,
      "--prior-internode 0: expected a finite value > 0 (metres)"},
     {"plan --map {d}/m.ot --detector-recall 0.5", 2, "--detector-recall"},
+    {"plan --map {d}/m.ot --stem-roi {d}/s.yaml", 1,
+     "--stem-roi: only the prior and detections+prior ROI sources use it (--roi-source "
+     "is oracle)"},
     {"reconstruct --plant 1 --roi-source prior --detections-explore-views 0 -o {d}/x", 1,
      "--detections-explore-views 0: only the detections ROI source uses it "
      "(--roi-source is prior)"},

@@ -87,6 +87,45 @@ TEST(LeafNodePrior, TheStemGoesOnWhereTheMapDoesNotShowIt)
   EXPECT_NEAR(nodes.boxes().back().center.x(), 1.0 + 0.1 * 0.19, 0.002);
 }
 
+TEST(LeafNodePrior, StemDetectionsFindAStemAwayFromTheAxis)
+{
+  // A stem 8 cm from the sector's axis, beyond the 3 cm where the map's voxels are
+  // looked for: without detections the prediction stands on the axis; with two detected
+  // stem parts it runs through their centres, and on at the ends' x and y.
+  CloudXYZ seen = stemCloud(0.4);
+  for (pcl::PointXYZ& p : seen.points)
+    p.y += 0.08f;
+  LeafNodePrior prior;
+  EXPECT_TRUE(prior.stemPoints(seen, kBase, 0.7).empty());
+  const Roi on_axis = prior.predict(seen, kBase, 0.7);
+  ASSERT_EQ(on_axis.size(), 8u);
+  for (const Box& b : on_axis.boxes())
+    EXPECT_NEAR(b.center.y(), 0.0, 1e-9);
+  const Roi parts({Box(Eigen::Vector3d(1.0, 0.09, 1.1), Eigen::Vector3d(0.02, 0.02, 0.1),
+                       "main_stem_1"),
+                   Box(Eigen::Vector3d(1.0, 0.07, 0.9), Eigen::Vector3d(0.02, 0.02, 0.1),
+                       "main_stem_0"),
+                   Box(Eigen::Vector3d(1.0, 0.5, 2.0), Eigen::Vector3d(0.02, 0.02, 0.1),
+                       "above_the_sector")});
+  prior.setStemObservations(parts);
+  EXPECT_EQ(prior.getStemObservations().size(), 3u);
+  const std::vector<Eigen::Vector3d> stem = prior.stemPoints(seen, kBase, 0.7);
+  ASSERT_EQ(stem.size(), 2u); // the two within the height, bottom first
+  EXPECT_EQ(stem[0], parts.boxes()[1].center);
+  const Roi nodes = prior.predict(seen, kBase, 0.7);
+  ASSERT_EQ(nodes.size(), 8u); // the top is still the map's (within 0.15 m of the axis)
+  for (const Box& b : nodes.boxes()) {
+    const double z = b.center.z();
+    const double y = z <= 0.9 ? 0.07 : z >= 1.1 ? 0.09 : 0.07 + 0.1 * (z - 0.9);
+    EXPECT_NEAR(b.center.y(), y, 1e-9) << z;
+  }
+  prior.setStemObservations(Roi()); // none: the voxels again
+  EXPECT_TRUE(prior.stemPoints(seen, kBase, 0.7).empty());
+  Box not_finite(Eigen::Vector3d(1.0, 0.0, 1.0), Eigen::Vector3d(0.1, 0.1, 0.1));
+  not_finite.center.y() = NAN; // the fields are public
+  EXPECT_THROW(prior.setStemObservations(Roi({not_finite})), InvalidArgumentError);
+}
+
 TEST(LeafNodePrior, AnchorsMoveThePredictionAndALeaningStemIsFollowed)
 {
   const LeafNodePrior prior;

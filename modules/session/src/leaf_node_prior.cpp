@@ -74,6 +74,15 @@ void LeafNodePrior::setConfig(const Config& config)
   config_ = config;
 }
 
+void LeafNodePrior::setStemObservations(const Roi& stem_W)
+{
+  for (const Box& box : stem_W.boxes())
+    if (!(box.center.allFinite() && box.size.allFinite()))
+      throw InvalidArgumentError("LeafNodePrior: stem observation '" + box.name +
+                                 "' is not finite");
+  stem_W_ = stem_W;
+}
+
 std::vector<Eigen::Vector3d> LeafNodePrior::stemPoints(const CloudXYZ& occupied_W,
                                                        const Eigen::Vector3d& axis_base_W,
                                                        double height_m) const
@@ -81,6 +90,18 @@ std::vector<Eigen::Vector3d> LeafNodePrior::stemPoints(const CloudXYZ& occupied_
   if (!(std::isfinite(height_m) && height_m > 0.0) || !axis_base_W.allFinite())
     throw InvalidArgumentError("LeafNodePrior: the plant's axis needs a finite base and "
                                "a height > 0");
+  std::vector<Eigen::Vector3d> detected;
+  for (const Box& box : stem_W_.boxes()) {
+    const double dz = box.center.z() - axis_base_W.z();
+    if (dz > 0.0 && dz < height_m)
+      detected.push_back(box.center);
+  }
+  if (!detected.empty()) {
+    std::stable_sort(
+        detected.begin(), detected.end(),
+        [](const Eigen::Vector3d& a, const Eigen::Vector3d& b) { return a.z() < b.z(); });
+    return detected;
+  }
   const std::size_t slices =
       std::max<std::size_t>(1, std::size_t(std::ceil(height_m / config_.slice_m)));
   std::vector<std::vector<double>> xs(slices), ys(slices);

@@ -6,10 +6,14 @@
 /// beyond; detected nodes' boxes are added to them (or, on request, anchor them).
 ///
 /// The rules, each a Config value:
-/// - The stem: the occupied voxels within stem_radius_m of the plant's vertical axis
-///   (the sector's axis, which a robot knows as where the plant stands), above its base,
-///   cut into slices of slice_m along z; a slice with at least min_slice_points voxels
-///   gives a stem point (the median x and y of its voxels, the slice's middle z).
+/// - The stem: with stem detections (setStemObservations: the 3D boxes of a detector's
+///   main-stem finds, as DetectionFusion or `integrate --roi-out --roi-class main_stem`
+///   gives them), each box's centre within the height is a stem point: they find a stem
+///   wherever it stands. Without them, the occupied voxels within stem_radius_m of the
+///   plant's vertical axis (the sector's axis, which a robot knows as where the plant
+///   stands), above its base, cut into slices of slice_m along z; a slice with at least
+///   min_slice_points voxels gives a stem point (the median x and y of its voxels, the
+///   slice's middle z).
 /// - The stem spans the plant's whole height, from the axis's base to its top (below):
 ///   between stem points it is interpolated, beyond the lowest and the highest it keeps
 ///   their x and y, and with no stem point it is the axis itself. The parts the map does
@@ -88,8 +92,16 @@ public:
   /// \brief The rules.
   const Config& getConfig() const { return config_; }
 
-  /// \brief The stem points (median x, y and middle z of each slice with stem voxels),
-  /// from bottom to top; empty when no slice has enough stem voxels.
+  /// \brief Boxes of detected stem parts, world frame (see the file's comment); an
+  /// empty Roi (the default) finds the stem among the occupied voxels instead.
+  /// \throws InvalidArgumentError for a box that is not finite.
+  void setStemObservations(const Roi& stem_W);
+  /// \brief The stem detections' boxes (empty: none).
+  const Roi& getStemObservations() const { return stem_W_; }
+
+  /// \brief The stem points from bottom to top: the centres of the stem observations'
+  /// boxes between the base and height_m above it when there are any, else the median
+  /// x, y and middle z of each slice with stem voxels; empty when neither gives one.
   /// \param[in] occupied_W the map's occupied voxel centres, world frame
   /// \param[in] axis_base_W the plant's base on its vertical axis, world frame
   /// \param[in] height_m how far above the base to look (the sector's height)
@@ -121,6 +133,7 @@ public:
 
 private:
   Config config_;
+  Roi stem_W_; ///< detected stem parts
 };
 
 } // namespace plantnbv
