@@ -73,16 +73,23 @@ scenario::Attention parseRoiOption(const std::string& spec)
   }
 }
 
+/// A vertical stem at the sector's axis: what the boxes of plant_rois.h are placed
+/// around when no plant is known.
+Plant plantOnAxis(const Eigen::Vector3d& axis_base)
+{
+  Plant axis;
+  axis.base_position = axis_base;
+  axis.anatomy.stem_axis = {axis_base, axis_base + Eigen::Vector3d(0.0, 0.0, 1.0)};
+  return axis;
+}
+
 /// The ROI: a file, or the paper's whole-plant / main-stem box on the sector's axis.
 Roi planRoi(const scenario::Attention& attention, const std::string& spec,
             const Eigen::Vector3d& axis_base)
 {
   if (!attention.kind)
     return io::loadRoi(attention.file);
-  // A vertical stem at the sector's axis: the boxes of plant_rois.h around it.
-  Plant axis;
-  axis.base_position = axis_base;
-  axis.anatomy.stem_axis = {axis_base, axis_base + Eigen::Vector3d(0.0, 0.0, 1.0)};
+  const Plant axis = plantOnAxis(axis_base);
   switch (*attention.kind) {
   case RoiKind::whole_plant:
     return wholePlantRoi(axis);
@@ -249,8 +256,8 @@ void runPlan(const PlanOptions& o)
   // whole-plant box on the sector's axis, as a trial's planner does on its plant's.
   if (auto* nbv = dynamic_cast<AttentionNbvPlanner*>(&session.getPlanner())) {
     nbv->setViewSpacing(config.view_spacing_m);
-    nbv->setExploration(config.explore_share, planRoi(parseRoiOption("whole_plant"),
-                                                      "whole_plant", sector.axis_base));
+    nbv->setExploration(config.explore_share,
+                        wholePlantRoi(plantOnAxis(sector.axis_base)));
     nbv->setExplorationViews(config.roi_source.explorationViews());
     if (!o.visited.empty())
       for (const io::StampedPose& p : io::readTumTrajectory(o.visited))
@@ -264,10 +271,10 @@ void runPlan(const PlanOptions& o)
               << "' is a .bt map (occupied / free only): the planner sees no uncertainty "
                  "in it; `plantnbv integrate` writes .ot maps that keep it\n";
   const Roi roi = attendedRoi(given, stem, config, *session.getMap());
+  const auto* nbv = dynamic_cast<const AttentionNbvPlanner*>(&session.getPlanner());
   const std::size_t views_taken = session.getPlanner().getVisitedPositions().size();
-  const int explore_views = config.roi_source.explorationViews();
   const std::string explore_reason =
-      explore_views > 0 && views_taken <= static_cast<std::size_t>(explore_views)
+      nbv && nbv->exploresTheFirstViews()
           ? "--roi-source detections, " + std::to_string(views_taken) +
                 (views_taken == 1 ? " view" : " views") + " taken (--visited)"
           : "the config's explore_share";

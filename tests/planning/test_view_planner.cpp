@@ -185,6 +185,7 @@ TEST(AttentionNbvPlanner, ExploresWhileFewViewsHaveBeenTaken)
   NextViewResult result;
   planner->addVisitedPosition(Eigen::Vector3d(0.0, 0.0, 1.0));
   planner->compute(result);
+  EXPECT_TRUE(planner->exploresTheFirstViews());
   EXPECT_TRUE(result.explored);
   EXPECT_EQ(result.chosen, 1u);
   EXPECT_EQ(result.utility,
@@ -192,6 +193,7 @@ TEST(AttentionNbvPlanner, ExploresWhileFewViewsHaveBeenTaken)
 
   planner->addVisitedPosition(Eigen::Vector3d(0.0, 0.0, 1.0));
   planner->compute(result);
+  EXPECT_FALSE(planner->exploresTheFirstViews());
   EXPECT_FALSE(result.explored); // two views taken
   EXPECT_EQ(result.chosen, 0u);
   planner->setExplorationViews(2);

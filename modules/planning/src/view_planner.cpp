@@ -184,8 +184,7 @@ void AttentionNbvPlanner::compute(NextViewResult& out)
   for (const ViewGain& g : gains_)
     max_gain = std::max(max_gain, g.gain);
   peak_gain_ = std::max(peak_gain_, max_gain);
-  out.explored = (explore_views_ > 0 &&
-                  visited_W_.size() <= static_cast<std::size_t>(explore_views_)) ||
+  out.explored = exploresTheFirstViews() ||
                  (explore_share_ > 0.0 && max_gain < explore_share_ * peak_gain_);
 
   std::size_t best;

@@ -170,6 +170,12 @@ public:
   void setExplorationViews(int views);
   /// \brief The views up to which the planner explores (0: none).
   int getExplorationViews() const { return explore_views_; }
+  /// \brief True while setExplorationViews' rule holds: few enough views taken.
+  bool exploresTheFirstViews() const
+  {
+    return explore_views_ > 0 &&
+           visited_W_.size() <= static_cast<std::size_t>(explore_views_);
+  }
   /// \brief Beyond the paper: a candidate closer than `spacing_m` to a visited position
   /// (addVisitedPosition) is chosen only when every candidate is; greedy views otherwise
   /// cluster where the gain's sparse rays still see something, and leave parts of the
