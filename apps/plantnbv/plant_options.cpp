@@ -5,6 +5,7 @@
 #include <CLI/CLI.hpp>
 
 #include <plantnbv/common/error.h>
+#include <plantnbv/io/mesh_io.h>
 
 #include "cli_checks.h"
 
@@ -41,6 +42,12 @@ void addPlantOptions(CLI::App& cmd, PlantOptions& o, const std::string& seed_fla
                  "file's: Collada's <unit>, else metres)")
       ->check(CLI::PositiveNumber)
       ->needs(model);
+  cmd.add_option("--model-up-axis", o.up_axis,
+                 "The model file's axis that points up: file (Collada's <up_axis>, VRML "
+                 "y, other formats z), y (an OBJ exported y up, as Blender's default) or "
+                 "z")
+      ->capture_default_str()
+      ->needs(model);
   cmd.add_option("--rois", s.rois,
                  "Your own ROI file (YAML boxes, world frame), scored as the level "
                  "model_rois");
@@ -65,6 +72,12 @@ scenario::PlacedPlant placePlant(const PlantOptions& o)
   if (o.base.size() != 3)
     throw InvalidArgumentError("--base must be three numbers x,y,z in metres");
   scenario::PlantSource source = o.source;
+  try {
+    source.up_axis = io::upAxisFromName(o.up_axis);
+  } catch (const InvalidArgumentError&) {
+    throw InvalidArgumentError("--model-up-axis: expected file, y or z, got '" +
+                               o.up_axis + "'");
+  }
   if (!o.models.empty()) {
     source.model = o.models.front();
     source.model_parts.assign(o.models.begin() + 1, o.models.end());

@@ -17,6 +17,7 @@ namespace app {
 struct PlantOptions {
   scenario::PlantSource source;
   std::vector<std::string> models; ///< --model, once or more: source.model(_parts)
+  std::string up_axis = "file";    ///< --model-up-axis: source.up_axis once checked
   std::vector<double> base{1.0, 0.0, 0.8}; ///< as parsed; source.base once checked
   std::string seed_flag = "--seed";        ///< the option's name, for messages
 };

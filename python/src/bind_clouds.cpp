@@ -104,17 +104,6 @@ py::object pointsOut(const CloudXYZL& cloud, bool with_labels)
   return pointsArray(cloud);
 }
 
-io::MeshLoadOptions::UpAxis upAxisFromName(const std::string& name)
-{
-  if (name == "file")
-    return io::MeshLoadOptions::UpAxis::from_file;
-  if (name == "y")
-    return io::MeshLoadOptions::UpAxis::y;
-  if (name == "z")
-    return io::MeshLoadOptions::UpAxis::z;
-  throw InvalidArgumentError("up_axis: expected 'file', 'y' or 'z', got '" + name + "'");
-}
-
 } // namespace
 
 void bindClouds(py::module_& m)
@@ -318,7 +307,7 @@ void bindClouds(py::module_& m)
       "read_mesh",
       [](const Path& path, const std::string& up_axis, double scale) {
         io::MeshLoadOptions options;
-        options.up_axis = upAxisFromName(up_axis);
+        options.up_axis = io::upAxisFromName(up_axis);
         options.scale = scale;
         py::gil_scoped_release release;
         return std::make_shared<TriangleMesh>(io::loadMesh(path.string(), options));

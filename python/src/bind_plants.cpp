@@ -229,8 +229,9 @@ void bindPlant(py::module_& m)
       "place_plant",
       [](std::optional<std::uint64_t> seed, std::optional<double> stage, bool simplified,
          const std::variant<std::string, std::vector<std::string>>& model,
-         const std::string& labels, double scale, const std::string& rois,
-         bool keep_frame, double yaw_deg, const py::handle& base) {
+         const std::string& labels, double scale, const std::string& up_axis,
+         const std::string& rois, bool keep_frame, double yaw_deg,
+         const py::handle& base) {
         PlantSource source;
         source.seed = seed;
         source.stage = stage;
@@ -245,6 +246,7 @@ void bindPlant(py::module_& m)
         }
         source.labels = labels;
         source.scale = scale;
+        source.up_axis = io::upAxisFromName(up_axis);
         source.rois = rois;
         source.keep_frame = keep_frame;
         source.yaw_deg = yaw_deg;
@@ -261,12 +263,14 @@ void bindPlant(py::module_& m)
       },
       py::kw_only(), "seed"_a = py::none(), "stage"_a = py::none(),
       "simplified"_a = false, "model"_a = "", "labels"_a = "", "scale"_a = 0.0,
-      "rois"_a = "", "keep_frame"_a = false, "yaw_deg"_a = 0.0,
+      "up_axis"_a = "file", "rois"_a = "", "keep_frame"_a = false, "yaw_deg"_a = 0.0,
       "base"_a = std::vector<double>{1.0, 0.0, 0.8},
       "The plant of `plantnbv reconstruct --plant/--model`: a generated tomato plant "
       "(seed, optional growth stage) or a model file (mesh or scanned cloud, with part "
       "label rules `labels` on node, geometry or material names, metres per file unit "
-      "`scale` (0: the file's), and an ROI file `rois`; a list of mesh files for a "
+      "`scale` (0: the file's), the file's up axis `up_axis` ('file': Collada's "
+      "<up_axis>, VRML y, other formats z; or 'y', 'z'), and an ROI file `rois`; a list "
+      "of mesh files for a "
       "plant split into several, as --model repeated), placed at `base` turned by "
       "yaw_deg (within +-360 degrees). A label rule that labels nothing, a Collada "
       "file without <unit> and an ROI box that misses the plant are UserWarnings.");

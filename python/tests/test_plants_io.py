@@ -78,6 +78,12 @@ def test_scans_and_meshes_become_plants(placed, tmp_path):
     split = pn.place_plant(model=[str(tmp_path / "p.ply"), str(tmp_path / "q.ply")])
     assert len(split.plant.mesh) == 2 * len(placed.plant.mesh)
     assert "and 1 more file" in split.description
+    # A y-up file (Blender's OBJ), 1 m along y in centimetres: up_axis stands it up.
+    (tmp_path / "y_up.obj").write_text("v 0 0 0\nv 0 100 0\nv 0 0 10\nf 1 2 3\n")
+    upright = pn.place_plant(model=str(tmp_path / "y_up.obj"), scale=0.01, up_axis="y")
+    assert upright.plant.anatomy["stem"]["top_height_m"] == pytest.approx(1.0, abs=1e-6)
+    with pytest.raises(ValueError, match="up axis: expected 'file', 'y' or 'z', got 'Y_UP'"):
+        pn.place_plant(model=str(tmp_path / "y_up.obj"), up_axis="Y_UP")
     mesh_plant = pn.plant_from_mesh(pn.read_mesh(tmp_path / "p.ply"), name="m")
     assert mesh_plant.name == "m" and len(mesh_plant.mesh) == len(placed.plant.mesh)
 

@@ -390,6 +390,19 @@ TEST_F(CliTest, ReconstructSectorFollowsALoadedModel)
   summary = nlohmann::json::parse(slurp(path("s/summary.json")));
   EXPECT_NEAR(summary["config"]["sector"]["height"].get<double>(), 0.1, 1e-6);
   EXPECT_NE(run(model + " --sector-radius -1 -o " + path("e")).code, 0);
+  // The file's up axis replaced: its y extent (1 m in centimetres) stands up.
+  write("y_up.obj", "v 0 0 0\nv 0 100 0\nv 0 0 10\nf 1 2 3\n");
+  const std::string y_up =
+      "plant --model " + path("y_up.obj") + " --model-scale 0.01 --model-up-axis ";
+  ASSERT_EQ(run(y_up + "y -o " + path("y")).code, 0);
+  placed = plantnbv::io::loadMesh(path("y/plant.ply"));
+  placed.bounds(lo, hi);
+  EXPECT_NEAR(hi.z() - lo.z(), 1.0, 1e-6);
+  const ToolRun bad = run(y_up + "Y_UP -o " + path("b"));
+  EXPECT_EQ(bad.code, 1);
+  EXPECT_NE(bad.err.find("--model-up-axis: expected file, y or z, got 'Y_UP'"),
+            std::string::npos)
+      << bad.err;
 }
 
 TEST_F(CliTest, ReconstructInARowMapsTheNeighboursButScoresThePlantAlone)

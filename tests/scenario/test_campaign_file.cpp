@@ -247,16 +247,17 @@ TEST_F(ScenarioFiles, AModelKeptInItsFilesFrameStaysThereInItsTrials)
 
 TEST_F(ScenarioFiles, AModelsScaleAndSectorRadiusReachItsTrials)
 {
-  // A 1 m tall triangle in centimetres; its views 0.55 m from its axis.
-  write("tall.obj", "o Stem\nv 0 0 0\nv 5 0 0\nv 0 0 100\nf 1 2 3\n");
+  // A 1 m tall triangle in centimetres, y up; its views 0.55 m from its axis.
+  write("tall.obj", "o Stem\nv 0 0 0\nv 5 0 0\nv 0 100 0\nf 1 2 3\n");
   const std::string path =
-      write("c.yaml", "name: t\nplants: [{model: tall.obj, scale: 0.01, sector_radius: "
-                      "0.55}]\nyaws_deg: [0]\nviews: 2\ncandidates: 9\n"
+      write("c.yaml", "name: t\nplants: [{model: tall.obj, scale: 0.01, up_axis: y, "
+                      "sector_radius: 0.55}]\nyaws_deg: [0]\nviews: 2\ncandidates: 9\n"
                       "studies:\n  - name: main\n    planners: [{type: predefined, "
                       "patterns: [1]}]\n");
   const CampaignFile f = loadCampaignFile(path);
   EXPECT_EQ(f.definition.plants[0].scale, 0.01);
   EXPECT_EQ(f.definition.plants[0].sector_radius_m, 0.55);
+  EXPECT_EQ(f.definition.plants[0].up_axis, "y");
   TrialResult result;
   runCampaignTrial(f, expandCampaign(f.definition).at(0), result);
   ASSERT_EQ(result.steps.size(), 2u);
@@ -271,6 +272,15 @@ TEST_F(ScenarioFiles, AModelsScaleAndSectorRadiusReachItsTrials)
               parseCampaignFile("name: t\nplants: [{seed: 0, scale: 0.01}]\n", "t.yaml");
             }),
             "'t.yaml' plants[0].scale: a scale belongs to a model file");
+  EXPECT_EQ(errorOf([] {
+              parseCampaignFile("name: t\nplants: [{seed: 0, up_axis: y}]\n", "t.yaml");
+            }),
+            "'t.yaml' plants[0].up_axis: an up axis belongs to a model file");
+  EXPECT_EQ(errorOf([] {
+              parseCampaignFile("name: t\nplants: [{model: a.obj, up_axis: Y_UP}]\n",
+                                "t.yaml");
+            }),
+            "'t.yaml' plants[0].up_axis: 'Y_UP' is not file, y or z");
   EXPECT_EQ(errorOf([] {
               parseCampaignFile("name: t\nplants: [{seed: 0, sector_radius: 0}]\n",
                                 "t.yaml");

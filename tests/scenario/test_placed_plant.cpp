@@ -225,11 +225,38 @@ TEST_F(ScenarioFiles, AForeignModelGetsFlowerLabelsFruitBoxesAndWarnings)
   seeded.seed = 1;
   seeded.scale = 0.01;
   EXPECT_EQ(errorOf([&] { makePlacedPlant(seeded); }),
-            "plant source: labels, scale and keep_frame belong to a model file");
+            "plant source: labels, scale, up axis and keep_frame belong to a model file");
+  seeded.scale = 0.0;
+  seeded.up_axis = io::MeshLoadOptions::UpAxis::y;
+  EXPECT_EQ(errorOf([&] { makePlacedPlant(seeded); }),
+            "plant source: labels, scale, up axis and keep_frame belong to a model file");
   bare.scale = -1.0;
   EXPECT_EQ(errorOf([&] { makePlacedPlant(bare); }),
             "plant source: the scale must be metres per file unit, a finite number > 0, "
             "or 0 for the file's own unit");
+}
+
+TEST_F(ScenarioFiles, AYUpModelOrScanStandsOnItsYAxis)
+{
+  // 1 m along y, 10 cm along z, in centimetres, as Blender exports OBJ by default.
+  PlantSource source;
+  source.model = write("y_up.obj", "o Stem\nv 0 0 0\nv 0 100 0\nv 0 0 10\nf 1 2 3\n");
+  source.scale = 0.01;
+  EXPECT_NEAR(makePlacedPlant(source).plant.anatomy.top_height_m, 0.1, 1e-7);
+  source.up_axis = io::MeshLoadOptions::UpAxis::y;
+  const PlacedPlant upright = makePlacedPlant(source);
+  EXPECT_NEAR(upright.plant.anatomy.top_height_m, 1.0, 1e-6);
+  EXPECT_EQ(upright.description, "model " + source.model + ", y up");
+  // A scan turns the same way: its file's y becomes our z, its z our -y.
+  source.model =
+      write("y_up.pcd", "VERSION .7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\n"
+                        "COUNT 1 1 1\nWIDTH 2\nHEIGHT 1\nVIEWPOINT 0 0 0 1 0 0 "
+                        "0\nPOINTS 2\nDATA ascii\n0 0 0\n0 100 10\n");
+  const PlacedPlant scan = makePlacedPlant(source);
+  EXPECT_NEAR(scan.plant.anatomy.top_height_m, 1.0, 1e-6);
+  ASSERT_EQ(scan.plant.scan_points.size(), 2u);
+  EXPECT_NEAR(std::abs(scan.plant.scan_points[1].y() - scan.plant.scan_points[0].y()),
+              0.1, 1e-6);
 }
 
 TEST(PlacedPlant, RowNeighboursStandAcrossTheFacingWithTheNextSeeds)

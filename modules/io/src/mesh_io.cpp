@@ -544,6 +544,28 @@ void checkColladaText(const std::string& path, const std::string& text)
   checkColladaForAssimp(path, text);
 }
 
+MeshLoadOptions::UpAxis upAxisFromName(const std::string& name)
+{
+  for (const auto axis : {MeshLoadOptions::UpAxis::from_file, MeshLoadOptions::UpAxis::y,
+                          MeshLoadOptions::UpAxis::z})
+    if (name == upAxisName(axis))
+      return axis;
+  throw InvalidArgumentError("up axis: expected 'file', 'y' or 'z', got '" + name + "'");
+}
+
+const char* upAxisName(MeshLoadOptions::UpAxis axis)
+{
+  switch (axis) {
+  case MeshLoadOptions::UpAxis::y:
+    return "y";
+  case MeshLoadOptions::UpAxis::z:
+    return "z";
+  case MeshLoadOptions::UpAxis::from_file:
+    break;
+  }
+  return "file";
+}
+
 TriangleMesh loadMesh(const std::string& path, const MeshLoadOptions& options,
                       MeshFileUnits* units)
 {

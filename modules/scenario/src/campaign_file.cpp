@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include <plantnbv/common/error.h>
+#include <plantnbv/io/mesh_io.h>
 #include <plantnbv/io/yaml_reader.h>
 #include <plantnbv/scenario/campaign_file.h>
 #include <plantnbv/scenario/placed_plant.h>
@@ -81,6 +82,15 @@ void readPlants(const YamlReader& r, const YAML::Node& node, const std::string& 
             if (!(std::isfinite(plant.scale) && plant.scale > 0.0))
               r.fail(k, n.Scalar() + " is not a number of metres > 0");
           }},
+         {"up_axis",
+          [&](const YAML::Node& n, const std::string& k) {
+            plant.up_axis = r.read<std::string>(n, k, "file, y or z");
+            try {
+              io::upAxisFromName(plant.up_axis);
+            } catch (const InvalidArgumentError&) {
+              r.fail(k, "'" + plant.up_axis + "' is not file, y or z");
+            }
+          }},
          {"sector_radius",
           [&](const YAML::Node& n, const std::string& k) {
             plant.sector_radius_m = r.read<double>(n, k, "a radius in metres");
@@ -107,6 +117,8 @@ void readPlants(const YamlReader& r, const YAML::Node& node, const std::string& 
       r.fail(p + ".labels", "label rules belong to a model file");
     if (plant.scale != 0.0)
       r.fail(p + ".scale", "a scale belongs to a model file");
+    if (plant.up_axis != "file")
+      r.fail(p + ".up_axis", "an up axis belongs to a model file");
     if (plant.keep_frame)
       r.fail(p + ".keep_frame", "a generated plant has no file frame to keep");
     if (named && seeds.size() > 1)
@@ -478,6 +490,7 @@ void runCampaignTrial(const CampaignFile& f, const TrialSpec& t, TrialResult& re
     source.model_parts.push_back(resolve(f, part));
   source.labels = plant.labels;
   source.scale = plant.scale;
+  source.up_axis = io::upAxisFromName(plant.up_axis);
   source.rois = resolve(f, plant.rois);
   source.keep_frame = plant.keep_frame;
   source.yaw_deg = t.yaw_deg;

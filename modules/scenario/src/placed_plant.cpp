@@ -32,9 +32,10 @@ void checkSource(const PlantSource& s)
   if (s.seed.has_value() == !s.model.empty())
     throw InvalidArgumentError(s.seed ? "plant source: a seed and a model file; give one"
                                       : "plant source: give a seed or a model file");
-  if (s.seed && (!s.labels.empty() || s.keep_frame || s.scale != 0.0))
+  if (s.seed && (!s.labels.empty() || s.keep_frame || s.scale != 0.0 ||
+                 s.up_axis != io::MeshLoadOptions::UpAxis::from_file))
     throw InvalidArgumentError(
-        "plant source: labels, scale and keep_frame belong to a model file");
+        "plant source: labels, scale, up axis and keep_frame belong to a model file");
   if (!(std::isfinite(s.scale) && s.scale >= 0.0))
     throw InvalidArgumentError("plant source: the scale must be metres per file unit, "
                                "a finite number > 0, or 0 for the file's own unit");
@@ -82,9 +83,12 @@ PlacedPlant generatedPlant(const PlantSource& s, double yaw_rad)
 
 /// A scan keeps its points; labels come from its label field. A label beyond ours (a
 /// data set's own numbering) is read as background and counted in `warnings`.
-Plant scannedPlant(const std::string& path, const std::string& name, bool keep_frame,
-                   double scale, std::vector<std::string>& warnings)
+Plant scannedPlant(const PlantSource& s, const std::string& name,
+                   std::vector<std::string>& warnings)
 {
+  const std::string& path = s.model;
+  const double scale = s.scale;
+  const bool y_up = s.up_axis == io::MeshLoadOptions::UpAxis::y;
   CloudXYZL cloud;
   io::loadCloud(path, cloud);
   constexpr auto kLast = static_cast<std::uint32_t>(kLastPartLabel);
@@ -93,9 +97,12 @@ Plant scannedPlant(const std::string& path, const std::string& name, bool keep_f
   std::size_t foreign = 0;
   for (const auto& p : cloud)
     if (std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z)) {
-      points.push_back(scale > 0.0
-                           ? (scale * p.getVector3fMap().cast<double>()).cast<float>()
-                           : Eigen::Vector3f(p.getVector3fMap()));
+      Eigen::Vector3f q = scale > 0.0
+                              ? (scale * p.getVector3fMap().cast<double>()).cast<float>()
+                              : Eigen::Vector3f(p.getVector3fMap());
+      if (y_up) // as loadMesh turns a y-up file: (x, y, z) becomes (x, -z, y)
+        q = Eigen::Vector3f(q.x(), -q.z(), q.y());
+      points.push_back(q);
       foreign += p.label > kLast;
       labels.push_back(p.label > kLast ? PartLabel::background : PartLabel(p.label));
     }
@@ -104,7 +111,7 @@ Plant scannedPlant(const std::string& path, const std::string& name, bool keep_f
                        "' have a label above " + std::to_string(kLast) +
                        " (ours: 0 unknown to 7 flower; docs/plants.md) and are read "
                        "as background");
-  return plantFromScan(std::move(points), std::move(labels), name, keep_frame);
+  return plantFromScan(std::move(points), std::move(labels), name, s.keep_frame);
 }
 
 /// The model's mesh files as one mesh. A file that names no node or mesh (PLY, STL)
@@ -122,6 +129,7 @@ TriangleMesh loadModelMesh(const PlantSource& s, std::vector<std::string>& warni
                         ".obj .ply .stl .wrl)");
     io::MeshLoadOptions options;
     options.scale = s.scale;
+    options.up_axis = s.up_axis;
     io::MeshFileUnits units;
     TriangleMesh mesh = io::loadMesh(file, options, &units);
     if (units.can_declare_unit && !units.unit_declared && s.scale == 0.0)
@@ -173,7 +181,7 @@ PlacedPlant modelPlant(const PlantSource& s, double yaw_rad)
     if (!s.labels.empty())
       throw InvalidArgumentError("label rules map mesh node names; the scan '" + s.model +
                                  "' has none (its labels come from its label field)");
-    out.plant = scannedPlant(s.model, name, s.keep_frame, s.scale, out.warnings);
+    out.plant = scannedPlant(s, name, out.warnings);
     break;
   case io::FileKind::octree:
     throw FormatError("model '" + s.model + "' is an octree; expected a mesh or a cloud");
@@ -190,6 +198,8 @@ PlacedPlant modelPlant(const PlantSource& s, double yaw_rad)
   if (!s.model_parts.empty())
     d << " and " << s.model_parts.size() << " more file"
       << (s.model_parts.size() > 1 ? "s" : "");
+  if (s.up_axis != io::MeshLoadOptions::UpAxis::from_file)
+    d << ", " << io::upAxisName(s.up_axis) << " up";
   d << (s.labels.empty() ? "" : ", labelled by name")
     << (s.keep_frame ? ", file frame kept" : "");
   out.description = d.str();

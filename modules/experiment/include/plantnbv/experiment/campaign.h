@@ -24,6 +24,7 @@ struct CampaignPlant {
   std::vector<std::string> model_parts; ///< further mesh files of the model
   std::string labels;                   ///< part label rules of a mesh model
   double scale = 0.0;                   ///< a model's metres per file unit; 0: the file's
+  std::string up_axis = "file";         ///< a model's up axis: file, y or z (mesh_io.h)
   std::string rois;                     ///< ROI file of a model
   /// A model kept in its file's coordinates (no base, no yaw: the campaign's yaws_deg
   /// must be [0]), so that boxes drawn in that frame (rois, attention files) match it.

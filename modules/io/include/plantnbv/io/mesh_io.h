@@ -68,6 +68,13 @@ struct MeshLoadOptions {
   InputLimits limits = defaultInputLimits();
 };
 
+/// \brief The up axis named as tools and files name it: "file" (from_file), "y" or "z".
+/// \throws InvalidArgumentError naming the accepted names otherwise.
+MeshLoadOptions::UpAxis upAxisFromName(const std::string& name);
+
+/// \brief The name upAxisFromName reads back.
+const char* upAxisName(MeshLoadOptions::UpAxis axis);
+
 /// \brief What loadMesh made of a file's unit, so a caller can say it.
 struct MeshFileUnits {
   bool can_declare_unit = false; ///< the format has a unit element (Collada)

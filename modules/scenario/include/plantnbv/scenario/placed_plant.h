@@ -14,6 +14,7 @@
 
 #include <plantnbv/common/box.h>
 #include <plantnbv/common/roi_kind.h>
+#include <plantnbv/io/mesh_io.h>
 #include <plantnbv/plant/plant.h>
 
 namespace plantnbv {
@@ -37,6 +38,10 @@ struct PlantSource {
   /// A model's metres per file unit (0.01: centimetres); 0 = the file's (Collada's
   /// `<unit>`, else metres). Replaces the file's unit (io::MeshLoadOptions::scale).
   double scale = 0.0;
+  /// A model's up axis in its file (io::MeshLoadOptions::up_axis): from_file reads
+  /// Collada's `<up_axis>` and VRML as y up, other formats as z up; y for an OBJ
+  /// exported y up (Blender's default). A scanned cloud: from_file is z.
+  io::MeshLoadOptions::UpAxis up_axis = io::MeshLoadOptions::UpAxis::from_file;
   std::string rois;        ///< the user's ROI file (world frame): the level "model_rois"
   bool keep_frame = false; ///< a model: keep the file's coordinates (no base, no yaw)
   double yaw_deg = 0.0;    ///< turn about the stem (degrees), within +-kMaxPlantYawDeg
@@ -67,8 +72,8 @@ struct PlacedPlant {
 /// `yaw_deg` about its stem (a model: the centre of its bounding box's bottom face is the
 /// base, unless keep_frame).
 /// \throws InvalidArgumentError for a source with neither or both of seed and model,
-/// labels, scale or keep_frame without a model, a negative or non-finite scale, a
-/// non-finite base, a yaw outside
+/// labels, scale, an up axis or keep_frame without a model, a negative or non-finite
+/// scale, a non-finite base, a yaw outside
 /// [-kMaxPlantYawDeg, kMaxPlantYawDeg]; the io and plant errors of the files and the
 /// generator.
 PlacedPlant makePlacedPlant(const PlantSource& source);
