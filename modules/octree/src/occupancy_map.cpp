@@ -430,24 +430,54 @@ namespace {
 
 using Scratch = detail::OccupancyMapScratch;
 
-/// One thread's writer into the bitset. Along a ray it keeps the current block and the
+/// A free voxel outside the frame's bounding box of keys (padded by one voxel), which
+/// the DDA cannot leave: kept in a list all the same (hits are always in the box).
+/// Keys outside the octree (OctoMap would wrap them) are dropped. Out of line: the
+/// walk's state stays in registers.
+[[gnu::noinline]] void keepOutside(std::vector<std::uint64_t>& overflow, int kx, int ky,
+                                   int kz)
+{
+  const int limit = VoxelLattice::kKeyLimit;
+  if (kx < 0 || ky < 0 || kz < 0 || kx >= limit || ky >= limit || kz >= limit)
+    return;
+  overflow.push_back((static_cast<std::uint64_t>(kx) << 32) |
+                     (static_cast<std::uint64_t>(ky) << 16) |
+                     static_cast<std::uint64_t>(kz));
+}
+
+/// The block at block coordinates b, or nullptr outside the frame's table. Out of line
+/// (rays are coherent: the block rarely changes along one).
+[[gnu::noinline]] Block* blockOrNull(Scratch& scratch, int bx, int by, int bz)
+{
+  const int b[3] = {bx, by, bz};
+  for (int a = 0; a < 3; ++a)
+    if (b[a] < scratch.table_lo[a] || b[a] >= scratch.table_lo[a] + scratch.table_size[a])
+      return nullptr;
+  return scratch.blockAt(b);
+}
+
+/// One ray's writer into the bitset. Along the ray it keeps the current block and the
 /// voxel's bit index inside it, and moves that index by one voxel per step (a Morton
-/// increment) instead of recomputing it; rays are coherent, so the block rarely changes.
-class BitsetWriter {
+/// increment) instead of recomputing it. Made afresh for every ray, as a local of
+/// markRay, so that the compiler keeps its state in registers. `kShared`: other threads
+/// write the same bitset at the same time.
+template <bool kShared>
+class RayBitsetWriter {
 public:
-  /// `shared`: other threads write the same bitset at the same time.
-  BitsetWriter(Scratch& scratch, std::vector<std::uint64_t>& overflow, bool shared)
-      : scratch_(scratch), overflow_(overflow), shared_(shared)
+  RayBitsetWriter(Scratch& scratch, std::vector<std::uint64_t>& overflow)
+      : scratch_(scratch), overflow_(overflow)
   {
   }
 
   /// A ray's first voxel (marked free); `step` is the ray's direction of travel per axis.
   void begin(int kx, int ky, int kz, const int step[3])
   {
+    up_ = 0;
     for (int a = 0; a < 3; ++a)
-      up_[a] = step[a] > 0;
+      if (step[a] > 0)
+        up_ |= kAxisBits << a;
     locate(kx, ky, kz);
-    markFree();
+    markFree(kx, ky, kz);
   }
 
   /// The ray's next voxel, one step along `axis` from the last one (marked free).
@@ -455,14 +485,15 @@ public:
   {
     const std::uint32_t mask = kAxisBits << axis;
     const std::uint32_t local = morton_ & mask;
-    if (!block_ || local == (up_[axis] ? mask : 0u)) {
+    const bool up = (up_ & mask) != 0;
+    if (!block_ || local == (up ? mask : 0u)) {
       locate(kx, ky, kz); // into the next block
-    } else if (up_[axis]) {
+    } else if (up) {
       morton_ = (((morton_ | ~mask) + 1u) & mask) | (morton_ & ~mask);
     } else {
       morton_ = ((local - 1u) & mask) | (morton_ & ~mask);
     }
-    markFree();
+    markFree(kx, ky, kz);
   }
 
   /// An end voxel (marked occupied).
@@ -471,66 +502,56 @@ public:
     locate(kx, ky, kz);
     if (block_)
       setBit(block_->occupied_bits[morton_ >> 6], std::uint64_t{1} << (morton_ & 63u),
-             shared_);
+             kShared);
   }
 
 private:
   /// The x bits of a voxel's 18-bit index in its block (y, z: shifted by 1, 2).
   static constexpr std::uint32_t kAxisBits = 0x9249u;
 
-  void markFree()
+  void markFree(int kx, int ky, int kz)
   {
     if (block_)
       setBit(block_->free_bits[morton_ >> 6], std::uint64_t{1} << (morton_ & 63u),
-             shared_);
+             kShared);
     else
-      outside();
+      keepOutside(overflow_, kx, ky, kz);
   }
 
   /// Block and bit index of key (kx, ky, kz); block_ null if outside the table.
   void locate(int kx, int ky, int kz)
   {
-    key_[0] = kx;
-    key_[1] = ky;
-    key_[2] = kz;
-    const int b[3] = {kx >> kBlockShift, ky >> kBlockShift, kz >> kBlockShift};
-    if (!block_ || b[0] != block_coords_[0] || b[1] != block_coords_[1] ||
-        b[2] != block_coords_[2]) {
-      block_ = nullptr;
-      for (int a = 0; a < 3; ++a)
-        if (b[a] < scratch_.table_lo[a] ||
-            b[a] >= scratch_.table_lo[a] + scratch_.table_size[a])
-          return;
-      block_ = scratch_.blockAt(b);
-      std::copy(b, b + 3, block_coords_);
+    const int bx = kx >> kBlockShift, by = ky >> kBlockShift, bz = kz >> kBlockShift;
+    if (!block_ || bx != block_x_ || by != block_y_ || bz != block_z_) {
+      block_ = blockOrNull(scratch_, bx, by, bz);
+      block_x_ = bx;
+      block_y_ = by;
+      block_z_ = bz;
     }
     morton_ = kSpread.values[kx & kBlockMask] | (kSpread.values[ky & kBlockMask] << 1) |
               (kSpread.values[kz & kBlockMask] << 2);
   }
 
-  /// A free voxel outside the frame's bounding box of keys (padded by one voxel), which
-  /// the DDA cannot leave: kept in a list all the same (hits are always in the box).
-  /// Keys outside the octree (OctoMap would wrap them) are dropped.
-  void outside()
-  {
-    const int limit = VoxelLattice::kKeyLimit;
-    if (key_[0] < 0 || key_[1] < 0 || key_[2] < 0 || key_[0] >= limit ||
-        key_[1] >= limit || key_[2] >= limit)
-      return;
-    overflow_.push_back((static_cast<std::uint64_t>(key_[0]) << 32) |
-                        (static_cast<std::uint64_t>(key_[1]) << 16) |
-                        static_cast<std::uint64_t>(key_[2]));
-  }
-
   Scratch& scratch_;
   std::vector<std::uint64_t>& overflow_;
   Block* block_ = nullptr;
-  int block_coords_[3] = {0, 0, 0};
-  int key_[3] = {0, 0, 0}; ///< last located key (for outside())
+  int block_x_ = 0, block_y_ = 0, block_z_ = 0;
   std::uint32_t morton_ = 0;
-  bool up_[3] = {false, false, false};
-  const bool shared_;
+  std::uint32_t up_ = 0; ///< the axis bits (kAxisBits << axis) of the axes walked up
 };
+
+/// One ray into the bitset: its voxels free, its end occupied when it is a hit. Every
+/// call inside is inlined (flatten), so the writer's state lives in registers.
+template <bool kShared>
+[[gnu::flatten]] void markRay(const float origin[3], const int key_origin[3],
+                              const Ray& ray, const VoxelLattice& lattice,
+                              Scratch& scratch, std::vector<std::uint64_t>& overflow)
+{
+  RayBitsetWriter<kShared> writer(scratch, overflow);
+  traverseRay(origin, ray.end, key_origin, ray.key_end, lattice, writer);
+  if (ray.hit)
+    writer.markOccupied(ray.key_end[0], ray.key_end[1], ray.key_end[2]);
+}
 
 } // namespace
 
@@ -707,15 +728,16 @@ void OccupancyMap::insertImpl(const pcl::PointCloud<PointT>& points_W,
     std::vector<std::uint64_t>& overflow =
         scratch.overflow[static_cast<std::size_t>(omp_get_thread_num())];
     overflow.clear();
-    BitsetWriter writer(scratch, overflow, threads > 1);
+    const bool shared = threads > 1;
 #pragma omp for schedule(dynamic, 4096)
     for (std::int64_t i = 0; i < n; ++i) {
       const Ray& ray = rays[i];
       if (!ray.valid)
         continue;
-      traverseRay(origin, ray.end, key_origin, ray.key_end, lattice, writer);
-      if (ray.hit)
-        writer.markOccupied(ray.key_end[0], ray.key_end[1], ray.key_end[2]);
+      if (shared)
+        markRay<true>(origin, key_origin, ray, lattice, scratch, overflow);
+      else
+        markRay<false>(origin, key_origin, ray, lattice, scratch, overflow);
     }
   }
   stats.traverse_ms = traverse_start.ms();
@@ -771,7 +793,7 @@ void OccupancyMap::insertImpl(const pcl::PointCloud<PointT>& points_W,
   stats.tree_updates = walker.updates();
   scratch.used.clear();
 
-  // Keys outside the table (not expected, see BitsetWriter::outside): free voxels
+  // Keys outside the table (not expected, see keepOutside): free voxels
   // distinct from all above, applied one by one with OctoMap's own non-lazy update.
   std::vector<std::uint64_t> overflow;
   for (const auto& list : scratch.overflow)
