@@ -374,7 +374,7 @@ def detections():
 def campaign():
     t = "campaign_yaml"
     for name in ["quick.yaml", "paper.yaml", "roi_error.yaml", "roi_detections.yaml",
-                 "roi_prior.yaml"]:
+                 "roi_prior.yaml", "third_party.yaml"]:
         put(t, name, (ROOT / "data" / "campaigns" / name).read_bytes())
     put(t, "models.yaml", """name: models
 seed: 7
