@@ -241,11 +241,33 @@ TEST_F(ScenarioFiles, AYUpModelOrScanStandsOnItsYAxis)
   // 1 m along y, 10 cm along z, in centimetres, as Blender exports OBJ by default.
   PlantSource source;
   source.model = write("y_up.obj", "o Stem\nv 0 0 0\nv 0 100 0\nv 0 0 10\nf 1 2 3\n");
+  // Read in metres and z up, it is 10 m tall and 100 m across: said, with both remedies.
+  const PlacedPlant wrong = makePlacedPlant(source);
+  ASSERT_EQ(wrong.warnings.size(), 1u);
+  EXPECT_EQ(
+      wrong.warnings[0],
+      "'" + source.model +
+          "' is 10 m tall and 100 m across, larger than a plant: its unit may be "
+          "wrong (read in its file's unit; give the model's scale, 0.01 for "
+          "centimetres, 0.001 for millimetres); if it lies on its side, give its up "
+          "axis too (y for an OBJ from Blender)");
   source.scale = 0.01;
-  EXPECT_NEAR(makePlacedPlant(source).plant.anatomy.top_height_m, 0.1, 1e-7);
+  const PlacedPlant lying = makePlacedPlant(source);
+  EXPECT_TRUE(lying.warnings.empty()); // a plausible size: nothing to say
+  EXPECT_NEAR(lying.plant.anatomy.top_height_m, 0.1, 1e-7);
   source.up_axis = io::MeshLoadOptions::UpAxis::y;
   const PlacedPlant upright = makePlacedPlant(source);
   EXPECT_NEAR(upright.plant.anatomy.top_height_m, 1.0, 1e-6);
+  // Millimetres given to a file in centimetres: 1 mm tall, and the scale is named.
+  source.scale = 0.00001;
+  const PlacedPlant tiny = makePlacedPlant(source);
+  ASSERT_EQ(tiny.warnings.size(), 1u);
+  EXPECT_NE(
+      tiny.warnings[0].find("smaller than a plant: its unit may be wrong (scale 1e-05 "
+                            "metres per file unit given)"),
+      std::string::npos)
+      << tiny.warnings[0];
+  source.scale = 0.01;
   EXPECT_EQ(upright.description, "model " + source.model + ", y up");
   // A scan turns the same way: its file's y becomes our z, its z our -y.
   source.model =

@@ -1,4 +1,5 @@
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <filesystem>
 #include <sstream>
@@ -152,6 +153,44 @@ TriangleMesh loadModelMesh(const PlantSource& s, std::vector<std::string>& warni
   return all;
 }
 
+/// The largest extent a plant model may have before its unit is suspect (metres):
+/// larger than any plant a depth camera of 0.75 m range reconstructs from a sector.
+constexpr double kLargestPlausiblePlantM = 3.0;
+/// The smallest: below it, a file in metres is more likely in kilometres or the like.
+constexpr double kSmallestPlausiblePlantM = 0.01;
+
+/// A model far larger or smaller than a plant is most often read in the wrong unit (an
+/// OBJ in centimetres read as metres): said in `warnings`, with the scale to give.
+void warnOfAnImplausibleSize(const Roi& whole, const PlantSource& s,
+                             std::vector<std::string>& warnings)
+{
+  if (whole.empty())
+    return;
+  const Eigen::Vector3d size = whole.boxes().front().size;
+  const double largest = size.maxCoeff();
+  if (largest <= kLargestPlausiblePlantM && largest >= kSmallestPlausiblePlantM)
+    return;
+  std::ostringstream w;
+  w << "'" << s.model << "' is " << size.z() << " m tall and "
+    << std::max(size.x(), size.y()) << " m across, "
+    << (largest > kLargestPlausiblePlantM ? "larger" : "smaller")
+    << " than a plant: its unit may be wrong";
+  if (s.scale == 0.0)
+    w << " (read in "
+      << (io::fileKind(s.model) == io::FileKind::mesh ? "its file's unit" : "metres")
+      << "; give the model's scale, 0.01 for centimetres, 0.001 for millimetres)";
+  else
+    w << " (scale " << s.scale << " metres per file unit given)";
+  // Formats without an up axis are read z up; one exported y up lies on its side.
+  std::string extension = std::filesystem::path(s.model).extension().string();
+  for (char& c : extension)
+    c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  if (s.up_axis == io::MeshLoadOptions::UpAxis::from_file && size.z() < largest &&
+      (extension == ".obj" || extension == ".stl" || extension == ".ply"))
+    w << "; if it lies on its side, give its up axis too (y for an OBJ from Blender)";
+  warnings.push_back(w.str());
+}
+
 PlacedPlant modelPlant(const PlantSource& s, double yaw_rad)
 {
   PlacedPlant out;
@@ -188,7 +227,9 @@ PlacedPlant modelPlant(const PlantSource& s, double yaw_rad)
   }
   if (!s.keep_frame)
     posePlant(out.plant, s.base, yaw_rad);
-  out.rois.emplace(RoiKind::whole_plant, boundingBoxRoi(out.plant));
+  Roi whole = boundingBoxRoi(out.plant);
+  warnOfAnImplausibleSize(whole, s, out.warnings);
+  out.rois.emplace(RoiKind::whole_plant, std::move(whole));
   // A labelled model's fruits, one box each: `--attention fruit` and the fruit level.
   if (Roi fruits = labelledPartRoi(out.plant, PartLabel::fruit); !fruits.empty())
     out.rois.emplace(RoiKind::fruit, std::move(fruits));
