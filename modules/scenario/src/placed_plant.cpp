@@ -156,7 +156,8 @@ TriangleMesh loadModelMesh(const PlantSource& s, std::vector<std::string>& warni
 /// The largest extent a plant model may have before its unit is suspect (metres):
 /// larger than any plant a depth camera of 0.75 m range reconstructs from a sector.
 constexpr double kLargestPlausiblePlantM = 3.0;
-/// The smallest: below it, a file in metres is more likely in kilometres or the like.
+/// The smallest: below it, the scale given is most likely wrong (millimetres given to a
+/// file in metres, say).
 constexpr double kSmallestPlausiblePlantM = 0.01;
 
 /// A model far larger or smaller than a plant is most often read in the wrong unit (an
