@@ -566,6 +566,12 @@ const char* upAxisName(MeshLoadOptions::UpAxis axis)
   return "file";
 }
 
+Eigen::Matrix3d upAxisRotation(MeshLoadOptions::UpAxis axis)
+{
+  return detail::upToZ(axis == MeshLoadOptions::UpAxis::y ? detail::Up::y
+                                                          : detail::Up::z);
+}
+
 TriangleMesh loadMesh(const std::string& path, const MeshLoadOptions& options,
                       MeshFileUnits* units)
 {

@@ -1,5 +1,4 @@
 #include <algorithm>
-#include <cctype>
 #include <cmath>
 #include <filesystem>
 #include <sstream>
@@ -89,7 +88,7 @@ Plant scannedPlant(const PlantSource& s, const std::string& name,
 {
   const std::string& path = s.model;
   const double scale = s.scale;
-  const bool y_up = s.up_axis == io::MeshLoadOptions::UpAxis::y;
+  const Eigen::Matrix3d up = io::upAxisRotation(s.up_axis);
   CloudXYZL cloud;
   io::loadCloud(path, cloud);
   constexpr auto kLast = static_cast<std::uint32_t>(kLastPartLabel);
@@ -98,12 +97,10 @@ Plant scannedPlant(const PlantSource& s, const std::string& name,
   std::size_t foreign = 0;
   for (const auto& p : cloud)
     if (std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z)) {
-      Eigen::Vector3f q = scale > 0.0
-                              ? (scale * p.getVector3fMap().cast<double>()).cast<float>()
-                              : Eigen::Vector3f(p.getVector3fMap());
-      if (y_up) // as loadMesh turns a y-up file: (x, y, z) becomes (x, -z, y)
-        q = Eigen::Vector3f(q.x(), -q.z(), q.y());
-      points.push_back(q);
+      const Eigen::Vector3f q =
+          scale > 0.0 ? (scale * p.getVector3fMap().cast<double>()).cast<float>()
+                      : Eigen::Vector3f(p.getVector3fMap());
+      points.push_back((up * q.cast<double>()).cast<float>()); // as a mesh file's
       foreign += p.label > kLast;
       labels.push_back(p.label > kLast ? PartLabel::background : PartLabel(p.label));
     }
@@ -182,12 +179,8 @@ void warnOfAnImplausibleSize(const Roi& whole, const PlantSource& s,
       << "; give the model's scale, 0.01 for centimetres, 0.001 for millimetres)";
   else
     w << " (scale " << s.scale << " metres per file unit given)";
-  // Formats without an up axis are read z up; one exported y up lies on its side.
-  std::string extension = std::filesystem::path(s.model).extension().string();
-  for (char& c : extension)
-    c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  if (s.up_axis == io::MeshLoadOptions::UpAxis::from_file && size.z() < largest &&
-      (extension == ".obj" || extension == ".stl" || extension == ".ply"))
+  // A file read with the wrong up axis lies on its side, less tall than wide.
+  if (s.up_axis == io::MeshLoadOptions::UpAxis::from_file && size.z() < largest)
     w << "; if it lies on its side, give its up axis too (y for an OBJ from Blender)";
   warnings.push_back(w.str());
 }

@@ -43,6 +43,8 @@
 
 #include <string>
 
+#include <Eigen/Core>
+
 #include <plantnbv/common/triangle_mesh.h>
 #include <plantnbv/io/input_limits.h>
 
@@ -74,6 +76,12 @@ MeshLoadOptions::UpAxis upAxisFromName(const std::string& name);
 
 /// \brief The name upAxisFromName reads back.
 const char* upAxisName(MeshLoadOptions::UpAxis axis);
+
+/// \brief The rotation loadMesh applies for an up axis given in MeshLoadOptions, into
+/// z up: y turns (x, y, z) into (x, -z, y); z and from_file (whose rule depends on the
+/// format, and is z for a cloud) are the identity. For points read otherwise, e.g. a
+/// scanned cloud, to turn them as a mesh would be.
+Eigen::Matrix3d upAxisRotation(MeshLoadOptions::UpAxis axis);
 
 /// \brief What loadMesh made of a file's unit, so a caller can say it.
 struct MeshFileUnits {
