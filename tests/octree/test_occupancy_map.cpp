@@ -17,6 +17,7 @@
 #include <plantnbv/common/random.h>
 #include <plantnbv/octree/occupancy_map.h>
 #include <plantnbv/octree/octree_conversion.h>
+#include <plantnbv/octree/update_region.h>
 
 using plantnbv::CloudXYZ;
 using plantnbv::OccupancyMap;
@@ -124,6 +125,22 @@ CloudXYZ randomFrame(plantnbv::Rng& rng, const Eigen::Vector3d& origin, double r
       cloud.push_back(point(origin.x() + 0.6 * max_range,
                             origin.y() + (u - 15) * 0.3 * res,
                             origin.z() + (v - 15) * 0.3 * res));
+  return cloud;
+}
+
+/// 4000 points seen from `origin`: three in four on a sphere of 0.25 m around `centre`,
+/// the others beyond a range of 0.6 m (free space only).
+CloudXYZ sphereFrame(plantnbv::Rng& rng, const Eigen::Vector3d& origin,
+                     const Eigen::Vector3d& centre)
+{
+  CloudXYZ cloud;
+  for (int i = 0; i < 4000; ++i) {
+    Eigen::Vector3d d(rng.normal(), rng.normal(), rng.normal());
+    d.normalize();
+    const Eigen::Vector3d p =
+        i % 4 == 0 ? origin + rng.uniform(0.62, 1.0) * d : centre + 0.25 * d;
+    cloud.push_back(point(p.x(), p.y(), p.z()));
+  }
   return cloud;
 }
 
@@ -495,14 +512,7 @@ TEST(OccupancyMap, EqualsOctoMapInsertPointCloudOverFrames)
     const Eigen::Vector3d origin =
         centre +
         Eigen::Vector3d(0.45 * std::cos(yaw), 0.45 * std::sin(yaw), 0.05 * (frame % 3));
-    CloudXYZ cloud;
-    for (int i = 0; i < 4000; ++i) {
-      Eigen::Vector3d d(rng.normal(), rng.normal(), rng.normal());
-      d.normalize();
-      const Eigen::Vector3d p =
-          i % 4 == 0 ? origin + rng.uniform(0.62, 1.0) * d : centre + 0.25 * d;
-      cloud.push_back(point(p.x(), p.y(), p.z()));
-    }
+    const CloudXYZ cloud = sphereFrame(rng, origin, centre);
     map.insert(cloud, origin);
     referenceInsert(*reference, cloud, origin, config.max_range_m);
     SCOPED_TRACE("frame " + std::to_string(frame));
@@ -575,6 +585,114 @@ TEST(OccupancyMap, EqualsOctoMapOnExactTies)
   auto reference = makeReference(config);
   referenceInsert(*reference, rays, centre, config.max_range_m);
   expectSameTree(map.getOcTree(), *reference);
+}
+
+/// A sphere of `radius` around `centre` as a triangle mesh (latitude-longitude grid).
+plantnbv::TriangleMesh sphereMesh(const Eigen::Vector3d& centre, double radius)
+{
+  plantnbv::TriangleMesh mesh;
+  const int rings = 24, sectors = 48;
+  for (int i = 0; i <= rings; ++i)
+    for (int j = 0; j < sectors; ++j) {
+      const double theta = M_PI * i / rings, phi = 2.0 * M_PI * j / sectors;
+      mesh.vertices.push_back(
+          (centre + radius * Eigen::Vector3d(std::sin(theta) * std::cos(phi),
+                                             std::sin(theta) * std::sin(phi),
+                                             std::cos(theta)))
+              .cast<float>());
+    }
+  for (int i = 0; i < rings; ++i)
+    for (int j = 0; j < sectors; ++j) {
+      const auto v = [&](int r, int c) {
+        return static_cast<std::uint32_t>(r * sectors + (c % sectors));
+      };
+      mesh.triangles.push_back({v(i, j), v(i + 1, j), v(i + 1, j + 1)});
+      mesh.triangles.push_back({v(i, j), v(i + 1, j + 1), v(i, j + 1)});
+    }
+  return mesh;
+}
+
+/// Every voxel of `region` within `bounds` has the same node state and log-odds in both
+/// maps. \return the voxels of the region that were compared.
+std::size_t expectSameInRegion(const OccupancyMap& map, const OccupancyMap& full,
+                               const plantnbv::UpdateRegion& region,
+                               const plantnbv::Box& bounds)
+{
+  octomap::OcTreeKey lo, hi;
+  EXPECT_TRUE(full.computeKey(bounds.min(), lo));
+  EXPECT_TRUE(full.computeKey(bounds.max(), hi));
+  std::size_t compared = 0, differing = 0;
+  for (int x = lo[0]; x <= hi[0]; ++x)
+    for (int y = lo[1]; y <= hi[1]; ++y)
+      for (int z = lo[2]; z <= hi[2]; ++z) {
+        if (!region.containsKey(x, y, z))
+          continue;
+        const octomap::OcTreeKey key(static_cast<octomap::key_type>(x),
+                                     static_cast<octomap::key_type>(y),
+                                     static_cast<octomap::key_type>(z));
+        ++compared;
+        const bool known = map.isKnown(key);
+        if (known != full.isKnown(key) || map.logOdds(key) != full.logOdds(key)) {
+          if (++differing <= 5)
+            ADD_FAILURE() << "voxel (" << x << ", " << y << ", " << z << "): known "
+                          << known << ", log-odds " << map.logOdds(key)
+                          << "; full map: " << full.logOdds(key);
+        }
+      }
+  EXPECT_EQ(differing, 0u);
+  return compared;
+}
+
+TEST(OccupancyMap, WithAnUpdateRegionItsVoxelsAreOctoMaps)
+{
+  // Frames of a sphere and of far points from around it, and hard random frames (axes,
+  // diagonals, faces, the sensor's voxel): with a region of the sphere's surface and a
+  // box, every voxel of the region equals OctoMap's full insertion, on 1 and 2 threads;
+  // outside it, free space is left out.
+  OccupancyMap::Config config;
+  config.resolution_m = 0.01;
+  config.max_range_m = 0.6;
+  const Eigen::Vector3d centre(0.5, -0.2, 1.0);
+  const plantnbv::Box bounds(centre, Eigen::Vector3d::Constant(1.6));
+  auto region = std::make_shared<plantnbv::UpdateRegion>(config.resolution_m, bounds);
+  region->addMesh(sphereMesh(centre, 0.25), config.resolution_m);
+  region->addBox(plantnbv::Box(centre + Eigen::Vector3d(0.1, 0.3, -0.2),
+                               Eigen::Vector3d(0.05, 0.1, 0.03)));
+  EXPECT_LT(region->brickCount() * 4, region->boundsBrickCount());
+  for (int threads : {1, 2}) {
+    plantnbv::Rng rng(11);
+    OccupancyMap map(config), full(config);
+    map.setUpdateRegion(region);
+    EXPECT_EQ(map.getUpdateRegion(), region);
+    map.setNumberOfThreads(threads);
+    full.setNumberOfThreads(threads);
+    std::size_t outside = 0;
+    for (int frame = 0; frame < 8; ++frame) {
+      const double yaw = 0.7 * frame;
+      const Eigen::Vector3d origin =
+          centre +
+          Eigen::Vector3d(0.45 * std::cos(yaw), 0.45 * std::sin(yaw), 0.05 * (frame % 3));
+      const CloudXYZ cloud =
+          frame % 4 == 3
+              ? randomFrame(rng, origin, config.resolution_m, config.max_range_m, 3000)
+              : sphereFrame(rng, origin, centre);
+      map.insert(cloud, origin);
+      full.insert(cloud, origin);
+      const std::size_t hits_outside = map.getLastInsertStats().hits_outside_region;
+      if (frame % 4 != 3) {
+        EXPECT_EQ(hits_outside, 0u) << frame; // the sphere's points are in the region
+      }
+      outside += hits_outside;
+    }
+    EXPECT_GT(outside, 100u); // the random frames' hits are anywhere
+    SCOPED_TRACE(threads);
+    EXPECT_GT(expectSameInRegion(map, full, *region, bounds), 100000u);
+    EXPECT_LT(map.countVoxels().free * 3, full.countVoxels().free * 2);
+  }
+  OccupancyMap other(OccupancyMap::Config{});
+  EXPECT_THROW(other.setUpdateRegion(region), plantnbv::InvalidArgumentError);
+  EXPECT_THROW(plantnbv::UpdateRegion(0.0, bounds), plantnbv::InvalidArgumentError);
+  EXPECT_THROW(region->addBox(bounds, -1.0), plantnbv::InvalidArgumentError);
 }
 
 TEST(OccupancyMap, SameMapWithAnyThreadCount)

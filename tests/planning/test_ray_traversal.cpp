@@ -1,6 +1,7 @@
 // The shared ray traversal (plantnbv/octree/ray_traversal.h) that the fast gain relies
 // on: the same voxels as OctoMap's computeRayKeys, and exact jumps.
 
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <vector>
@@ -21,7 +22,8 @@ struct KeyCollector {
   void next(int, int kx, int ky, int kz, double) { add(kx, ky, kz); }
   void add(int kx, int ky, int kz)
   {
-    keys.emplace_back(static_cast<octomap::key_type>(kx), static_cast<octomap::key_type>(ky),
+    keys.emplace_back(static_cast<octomap::key_type>(kx),
+                      static_cast<octomap::key_type>(ky),
                       static_cast<octomap::key_type>(kz));
   }
 };
@@ -118,10 +120,123 @@ TEST(RayTraversal, JumpingPerAxisGivesTheStepByStepState)
     double tj[3] = {s.t_max[0], s.t_max[1], s.t_max[2]};
     int kj[3] = {ko[0], ko[1], ko[2]};
     for (int a = 0; a < 3; ++a)
-      kj[a] += static_cast<int>(rt::advanceWhileBelow(tj[a], s.t_delta[a], target)) * s.step[a];
+      kj[a] += static_cast<int>(rt::advanceWhileBelow(tj[a], s.t_delta[a], target)) *
+               s.step[a];
+    // advanceBelow: the same, by single additions where they are few.
+    double tb[3] = {s.t_max[0], s.t_max[1], s.t_max[2]};
+    int kb[3] = {ko[0], ko[1], ko[2]};
+    rt::advanceBelow(rt::marchRay(o, s), target, tb, kb);
     for (int a = 0; a < 3; ++a) {
       ASSERT_EQ(k[a], kj[a]) << "segment " << i;
       ASSERT_EQ(t[a], tj[a]) << "segment " << i;
+      ASSERT_EQ(k[a], kb[a]) << "segment " << i;
+      ASSERT_EQ(t[a], tb[a]) << "segment " << i;
     }
   }
+}
+
+namespace {
+
+/// A region of bricks of 4^3 voxels drawn at random (about one in `one_in`).
+struct RandomRegion {
+  static constexpr int kBrickShift = 2;
+  std::uint64_t seed;
+  int one_in;
+  bool containsBrick(int bx, int by, int bz) const
+  {
+    std::uint64_t h = seed ^ (static_cast<std::uint64_t>(bx) * 0x9E3779B97F4A7C15ull) ^
+                      (static_cast<std::uint64_t>(by) * 0xC2B2AE3D27D4EB4Full) ^
+                      (static_cast<std::uint64_t>(bz) * 0x165667B19E3779F9ull);
+    h ^= h >> 29;
+    h *= 0xBF58476D1CE4E5B9ull;
+    h ^= h >> 32;
+    return h % static_cast<std::uint64_t>(one_in) == 0;
+  }
+};
+
+/// The voxels a region walk hands over, checking that each `next` is one step from the
+/// voxel before (the last visited or the one `resume` gave).
+struct RegionCollector {
+  std::vector<std::array<int, 3>> keys;
+  int at[3] = {0, 0, 0};
+  bool steps_ok = true;
+  void begin(int kx, int ky, int kz, const int*) { visit(kx, ky, kz); }
+  void next(int axis, int kx, int ky, int kz, double)
+  {
+    const int k[3] = {kx, ky, kz};
+    for (int a = 0; a < 3; ++a)
+      steps_ok = steps_ok && std::abs(k[a] - at[a]) == (a == axis ? 1 : 0);
+    visit(kx, ky, kz);
+  }
+  void resume(int kx, int ky, int kz)
+  {
+    at[0] = kx;
+    at[1] = ky;
+    at[2] = kz;
+  }
+  void visit(int kx, int ky, int kz)
+  {
+    keys.push_back({kx, ky, kz});
+    resume(kx, ky, kz);
+  }
+};
+
+} // namespace
+
+TEST(RayTraversal, ARegionWalkVisitsEveryVoxelOfTheRegionInOrder)
+{
+  // Random segments, and segments from lattice corners along diagonals and axes, whose
+  // border crossings tie or nearly tie (where the geometric march and OctoMap's sums
+  // may order them differently): the region walk hands over exactly traverseRay's
+  // voxels in the region, in order, and skips most of the others.
+  const double res = 0.003;
+  const plantnbv::VoxelLattice lattice(res);
+  plantnbv::Rng rng(21);
+  std::size_t visited = 0, walked = 0;
+  for (int i = 0; i < 6000; ++i) {
+    float o[3], e[3];
+    if (i % 3 == 0) {
+      const double corner[3] = {std::round(rng.uniform(0.0, 0.3) / res) * res,
+                                std::round(rng.uniform(0.0, 0.3) / res) * res,
+                                std::round(rng.uniform(0.0, 0.3) / res) * res};
+      const double d[3] = {static_cast<double>(1 - 2 * (i % 2)), i % 5 == 0 ? 0.0 : 1.0,
+                           i % 7 == 0 ? 0.0 : (i % 4 == 0 ? 1.0 : 2.0)};
+      const double len =
+          rng.uniform(0.1, 0.75) / std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+      for (int a = 0; a < 3; ++a) {
+        o[a] = static_cast<float>(corner[a] + (i % 6 == 0 ? 0.5 * res : 0.0));
+        e[a] = static_cast<float>(o[a] + len * d[a]);
+      }
+    } else {
+      for (int a = 0; a < 3; ++a) {
+        o[a] = static_cast<float>(rng.uniform(0.0, 0.3));
+        e[a] = static_cast<float>(o[a] + rng.uniform(-0.75, 0.75));
+      }
+    }
+    int ko[3], ke[3];
+    ASSERT_TRUE(lattice.coordToKey(o, ko));
+    ASSERT_TRUE(lattice.coordToKey(e, ke));
+    const RandomRegion region{static_cast<std::uint64_t>(i), i % 2 == 0 ? 40 : 4};
+    KeyCollector all;
+    rt::traverseRay(o, e, ko, ke, lattice, all);
+    RegionCollector part;
+    rt::traverseRayInRegion(o, e, ko, ke, lattice, region, part);
+    ASSERT_TRUE(part.steps_ok) << "segment " << i;
+    auto inRegion = [&](int kx, int ky, int kz) {
+      return region.containsBrick(kx >> RandomRegion::kBrickShift,
+                                  ky >> RandomRegion::kBrickShift,
+                                  kz >> RandomRegion::kBrickShift);
+    };
+    std::vector<std::array<int, 3>> expected, got;
+    for (const octomap::OcTreeKey& k : all.keys)
+      if (inRegion(k[0], k[1], k[2]))
+        expected.push_back({k[0], k[1], k[2]});
+    for (const auto& k : part.keys)
+      if (inRegion(k[0], k[1], k[2]))
+        got.push_back(k);
+    ASSERT_EQ(expected, got) << "segment " << i;
+    visited += all.keys.size();
+    walked += part.keys.size();
+  }
+  EXPECT_LT(walked * 4, visited * 3); // the sparse regions' rays jumped
 }

@@ -496,6 +496,9 @@ public:
     markFree(kx, ky, kz);
   }
 
+  /// The ray's voxel after a jump (traverseRayInRegion): located, not marked.
+  void resume(int kx, int ky, int kz) { locate(kx, ky, kz); }
+
   /// An end voxel (marked occupied).
   void markOccupied(int kx, int ky, int kz)
   {
@@ -542,13 +545,20 @@ private:
 
 /// One ray into the bitset: its voxels free, its end occupied when it is a hit. Every
 /// call inside is inlined (flatten), so the writer's state lives in registers.
+/// With a region, only the voxels in it are certain to be marked
+/// (traverseRayInRegion).
 template <bool kShared>
 [[gnu::flatten]] void markRay(const float origin[3], const int key_origin[3],
                               const Ray& ray, const VoxelLattice& lattice,
-                              Scratch& scratch, std::vector<std::uint64_t>& overflow)
+                              const UpdateRegion* region, Scratch& scratch,
+                              std::vector<std::uint64_t>& overflow)
 {
   RayBitsetWriter<kShared> writer(scratch, overflow);
-  traverseRay(origin, ray.end, key_origin, ray.key_end, lattice, writer);
+  if (region)
+    ray_traversal::traverseRayInRegion(origin, ray.end, key_origin, ray.key_end, lattice,
+                                       *region, writer);
+  else
+    traverseRay(origin, ray.end, key_origin, ray.key_end, lattice, writer);
   if (ray.hit)
     writer.markOccupied(ray.key_end[0], ray.key_end[1], ray.key_end[2]);
 }
@@ -613,6 +623,17 @@ void OccupancyMap::setNumberOfThreads(int threads)
   threads_ = threads;
 }
 
+void OccupancyMap::setUpdateRegion(std::shared_ptr<const UpdateRegion> region)
+{
+  if (region && region->resolution() != config_.resolution_m) {
+    std::ostringstream s;
+    s << "OccupancyMap::setUpdateRegion: the region's resolution " << region->resolution()
+      << " m is not the map's " << config_.resolution_m << " m";
+    throw InvalidArgumentError(s.str());
+  }
+  region_ = std::move(region);
+}
+
 void OccupancyMap::insert(const CloudXYZ& points_W,
                           const Eigen::Vector3d& sensor_origin_W)
 {
@@ -662,8 +683,10 @@ void OccupancyMap::insertImpl(const pcl::PointCloud<PointT>& points_W,
   //    all keys.
   int key_lo[3] = {key_origin[0], key_origin[1], key_origin[2]};
   int key_hi[3] = {key_origin[0], key_origin[1], key_origin[2]};
-  std::size_t non_finite = 0, beyond_range = 0, outside_map = 0;
-#pragma omp parallel num_threads(threads) reduction(+ : non_finite, beyond_range, outside_map)
+  std::size_t non_finite = 0, beyond_range = 0, outside_map = 0, hits_outside_region = 0;
+  const UpdateRegion* const region = region_.get();
+#pragma omp parallel num_threads(threads) reduction(+ : non_finite, beyond_range,        \
+                                                       outside_map, hits_outside_region)
   {
     int lo[3] = {key_lo[0], key_lo[1], key_lo[2]};
     int hi[3] = {key_hi[0], key_hi[1], key_hi[2]};
@@ -697,6 +720,9 @@ void OccupancyMap::insertImpl(const pcl::PointCloud<PointT>& points_W,
         continue;
       }
       ray.valid = true;
+      if (region && ray.hit &&
+          !region->containsKey(ray.key_end[0], ray.key_end[1], ray.key_end[2]))
+        ++hits_outside_region;
       for (int a = 0; a < 3; ++a) {
         lo[a] = std::min(lo[a], ray.key_end[a]);
         hi[a] = std::max(hi[a], ray.key_end[a]);
@@ -711,6 +737,7 @@ void OccupancyMap::insertImpl(const pcl::PointCloud<PointT>& points_W,
   stats.non_finite = non_finite;
   stats.beyond_range = beyond_range;
   stats.outside_map = outside_map;
+  stats.hits_outside_region = hits_outside_region;
   stats.rays_ms = start.ms();
   const Stopwatch traverse_start;
 
@@ -735,9 +762,9 @@ void OccupancyMap::insertImpl(const pcl::PointCloud<PointT>& points_W,
       if (!ray.valid)
         continue;
       if (shared)
-        markRay<true>(origin, key_origin, ray, lattice, scratch, overflow);
+        markRay<true>(origin, key_origin, ray, lattice, region, scratch, overflow);
       else
-        markRay<false>(origin, key_origin, ray, lattice, scratch, overflow);
+        markRay<false>(origin, key_origin, ray, lattice, region, scratch, overflow);
     }
   }
   stats.traverse_ms = traverse_start.ms();

@@ -561,23 +561,18 @@ PLANTNBV_ALWAYS_INLINE bool visitVoxel(const Cursor<CodeT>& c, std::uint32_t* co
 
 /// One ray's constants for jumps over bricks where nothing matters.
 struct JumpRay {
-  double o[3];       ///< origin (the float origin)
-  double inv_dir[3]; ///< 1 / OctoMap's float unit direction (0 where it is 0)
-  double dt[3];      ///< t_delta
-  int step[3];
+  rt::MarchRay march;
   int end[3];    ///< key_end
   double length; ///< OctoMap's float length
   double t_last; ///< past this nothing counts
 };
 
 /// In a brick where nothing matters (nothing in the ROI, nothing occupied): finds where
-/// the next brick that matters begins, walking bricks along the ray, and takes at once
-/// every traversal step that enters a voxel before it (advanceWhileBelow per axis:
-/// OctoMap's steps are the merge of the axes' border crossings ordered by t, so those
-/// steps are, per axis, the additions while t_max < T; the same state as stepping one by
-/// one). The jump stops `margin` short of that brick (far more than the rounding of
-/// these distances, ~1e-13 m) and two voxels short of the segment's end, so no jumped
-/// step is the end voxel or trips OctoMap's length rule.
+/// the next brick that matters begins (rt::nextBrickEntry) and takes at once every
+/// traversal step that enters a voxel before it (rt::advanceBelow). The jump stops
+/// `margin` short of that brick (far more than the rounding of these distances, ~1e-13
+/// m) and two voxels short of the segment's end, so no jumped step is the end voxel or
+/// trips OctoMap's length rule.
 /// \return 1: nothing on the rest of the ray counts (stop it); 0: continue from t, k.
 template <typename CodeT>
 int jumpEmpty(const Bricks<CodeT>& bricks, const JumpRay& ray,
@@ -586,29 +581,12 @@ int jumpEmpty(const Bricks<CodeT>& bricks, const JumpRay& ray,
 {
   const double res = lattice.resolution();
   int b[3] = {k[0] >> kBrickShift, k[1] >> kBrickShift, k[2] >> kBrickShift};
-  double tc[3], tc_step[3]; // where the ray leaves brick b per axis, and per brick
-  for (int a = 0; a < 3; ++a) {
-    if (ray.step[a] == 0) {
-      tc[a] = tc_step[a] = std::numeric_limits<double>::infinity();
-      continue;
-    }
-    const int key = ray.step[a] > 0 ? (b[a] + 1) << kBrickShift : b[a] << kBrickShift;
-    tc[a] = (lattice.keyToLowerFace(key) - ray.o[a]) * ray.inv_dir[a];
-    tc_step[a] = (1 << kBrickShift) * res * std::fabs(ray.inv_dir[a]);
-  }
   const double limit = std::min(ray.t_last, ray.length) + margin;
-  double t_next = std::numeric_limits<double>::infinity();
-  for (;;) {
-    const int a = tc[0] < tc[1] ? (tc[0] < tc[2] ? 0 : 2) : (tc[1] < tc[2] ? 1 : 2);
-    if (tc[a] > limit)
-      break;
-    b[a] += ray.step[a];
-    if (brickMatters(bricks, b)) {
-      t_next = tc[a];
-      break;
-    }
-    tc[a] += tc_step[a];
-  }
+  const double t_next = rt::nextBrickEntry(ray.march, lattice, kBrickShift, b, limit,
+                                           [&bricks](int bx, int by, int bz) {
+                                             const int brick[3] = {bx, by, bz};
+                                             return brickMatters(bricks, brick);
+                                           });
   double target;
   if (t_next < std::numeric_limits<double>::infinity()) {
     target = t_next - margin;
@@ -623,9 +601,7 @@ int jumpEmpty(const Bricks<CodeT>& bricks, const JumpRay& ray,
   }
   target = std::min(target, ray.length - 2.0 * res);
   if (target > t_entry)
-    for (int a = 0; a < 3; ++a)
-      k[a] +=
-          static_cast<int>(rt::advanceWhileBelow(t[a], ray.dt[a], target)) * ray.step[a];
+    rt::advanceBelow(ray.march, target, t, k);
   return 0;
 }
 
@@ -713,25 +689,21 @@ ViewGain computeFast(const Snapshot& snap, const Bricks<CodeT>& bricks,
         continue;
     }
     JumpRay jr;
-    for (int a = 0; a < 3; ++a) {
-      jr.o[a] = origin[a];
-      jr.inv_dir[a] = s.direction[a] != 0.0f ? 1.0 / s.direction[a] : 0.0;
-      jr.dt[a] = s.t_delta[a];
-      jr.step[a] = s.step[a];
+    jr.march = rt::marchRay(origin, s);
+    for (int a = 0; a < 3; ++a)
       jr.end[a] = key_end[a];
-    }
     jr.length = length;
     jr.t_last = t_last;
     Cursor<CodeT> cursor;
     const double target = std::min(t_first, length - 2.0 * res);
     if (target > 0.0) {
-      // Every step that enters a voxel before `target` at once (advanceWhileBelow):
-      // OctoMap's steps are the merge of the three axes' border crossings ordered by t,
-      // so those are, per axis, the additions while t_max < target: the same state as
-      // stepping one by one. None of them reaches the end voxel (two voxels short).
-      kx += static_cast<int>(rt::advanceWhileBelow(tx, dx, target)) * sx;
-      ky += static_cast<int>(rt::advanceWhileBelow(ty, dy, target)) * sy;
-      kz += static_cast<int>(rt::advanceWhileBelow(tz, dz, target)) * sz;
+      // Every step that enters a voxel before `target` at once; none of them reaches
+      // the end voxel (two voxels short).
+      double t[3] = {tx, ty, tz};
+      int k[3] = {kx, ky, kz};
+      rt::advanceBelow(jr.march, target, t, k);
+      tx = t[0], ty = t[1], tz = t[2];
+      kx = k[0], ky = k[1], kz = k[2];
       loadBrick(bricks, seen, kx, ky, kz, cursor); // its voxel lies outside the table
     } else {
       loadBrick(bricks, seen, kx, ky, kz, cursor);

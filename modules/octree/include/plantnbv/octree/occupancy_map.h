@@ -12,6 +12,7 @@
 
 #include <plantnbv/common/pcl_fwd.h>
 #include <plantnbv/octree/octree_conversion.h>
+#include <plantnbv/octree/update_region.h>
 
 namespace octomap {
 class OcTree;
@@ -107,6 +108,9 @@ public:
     /// Tree updates made: a cube of voxels that all get the same update and that
     /// OctoMap's pruning would merge is updated as one node.
     std::size_t tree_updates = 0;
+    /// With an update region: hits whose voxel lies outside it (the region did not hold
+    /// every voxel that can become occupied; see setUpdateRegion).
+    std::size_t hits_outside_region = 0;
     double rays_ms = 0.0;     ///< ray ends, keys and bounds (parallel)
     double traverse_ms = 0.0; ///< ray traversal into the bitset (parallel)
     double update_ms = 0.0;   ///< tree update, inner nodes and pruning (sequential)
@@ -156,6 +160,18 @@ public:
 
   /// \brief Statistics and step timings of the last `insert`.
   const InsertStats& getLastInsertStats() const { return last_stats_; }
+
+  /// \brief Restricts the exactness of `insert` to `region` (null: the whole map, the
+  /// default): every voxel of the region then gets exactly the updates of a full
+  /// insertion, while rays jump over runs of bricks outside it, whose voxels may stay
+  /// unknown or be updated less often than in the full map. For a caller that reads
+  /// only the region's voxels and the occupied ones: when every hit falls in the region
+  /// (InsertStats::hits_outside_region stays 0), a voxel outside it is never occupied,
+  /// as in the full map. Kept by `clear`.
+  /// \throws InvalidArgumentError if the region's resolution is not the map's.
+  void setUpdateRegion(std::shared_ptr<const UpdateRegion> region);
+  /// \brief The update region (null: none).
+  const std::shared_ptr<const UpdateRegion>& getUpdateRegion() const { return region_; }
 
   /// \brief Forgets everything (the configuration stays).
   void clear();
@@ -223,6 +239,7 @@ private:
   std::unique_ptr<detail::OccupancyMapScratch> scratch_;
   InsertStats last_stats_;
   std::uint64_t revision_ = 0;
+  std::shared_ptr<const UpdateRegion> region_;
 };
 
 } // namespace plantnbv

@@ -236,5 +236,211 @@ void traverseRay(const float origin[3], const float end[3], const int key_origin
   }
 }
 
+/// \brief A ray as the brick march below sees it.
+struct MarchRay {
+  double o[3];       ///< origin (OctoMap's float origin)
+  double inv_dir[3]; ///< 1 / OctoMap's float unit direction (0 where it is 0)
+  double dt[3];      ///< the DDA's t_delta
+  double inv_dt[3];  ///< 1 / dt (0 where dt is infinite), for estimates only
+  int step[3];       ///< the DDA's step
+};
+
+/// \brief The march's view of a segment set up by setupRay.
+inline MarchRay marchRay(const float origin[3], const RaySetup& s)
+{
+  MarchRay m;
+  for (int a = 0; a < 3; ++a) {
+    m.o[a] = origin[a];
+    m.inv_dir[a] = s.direction[a] != 0.0f ? 1.0 / s.direction[a] : 0.0;
+    m.dt[a] = s.t_delta[a];
+    m.inv_dt[a] = 1.0 / s.t_delta[a];
+    m.step[a] = s.step[a];
+  }
+  return m;
+}
+
+/// \brief Walks the bricks (cubes of 2^shift voxels, aligned with the octree) along the
+/// ray from brick `b` (key >> shift per axis; updated), and returns where the ray enters
+/// the first one for which `matters(bx, by, bz)` holds, or infinity if it enters none
+/// before `limit` (metres along the ray). The distances are geometric (rounding about
+/// 1e-13 m): callers stop well short of them (see advanceBelow). Where the ray crosses
+/// two or three borders within `kTie` of each other, OctoMap's steps (accumulated sums)
+/// may cross them in another order than this walk and pass through a brick it skips:
+/// there every brick of those orders is asked, and the walk stops at the crossing if
+/// one matters.
+template <typename Matters>
+double nextBrickEntry(const MarchRay& ray, const VoxelLattice& lattice, int shift,
+                      int b[3], double limit, Matters&& matters)
+{
+  // Far above the rounding of both sums (~1e-13 m), far below a voxel.
+  const double kTie = 1e-6 * lattice.resolution();
+  double tc[3], tc_step[3]; // where the ray leaves brick b per axis, and per brick
+  for (int a = 0; a < 3; ++a) {
+    if (ray.step[a] == 0) {
+      tc[a] = tc_step[a] = std::numeric_limits<double>::infinity();
+      continue;
+    }
+    const int key = ray.step[a] > 0 ? (b[a] + 1) << shift : b[a] << shift;
+    tc[a] = (lattice.keyToLowerFace(key) - ray.o[a]) * ray.inv_dir[a];
+    tc_step[a] = (1 << shift) * lattice.resolution() * std::fabs(ray.inv_dir[a]);
+  }
+  for (;;) {
+    const int a = tc[0] < tc[1] ? (tc[0] < tc[2] ? 0 : 2) : (tc[1] < tc[2] ? 1 : 2);
+    if (tc[a] > limit)
+      return std::numeric_limits<double>::infinity();
+    int tied = 0; // the axes crossed (nearly) with a
+    for (int c = 0; c < 3; ++c)
+      if (tc[c] - tc[a] <= kTie)
+        tied |= 1 << c;
+    if (tied != 1 << a)
+      for (int subset = 1; subset < 8; ++subset) {
+        if ((subset & tied) != subset)
+          continue;
+        const int n[3] = {b[0] + ((subset & 1) ? ray.step[0] : 0),
+                          b[1] + ((subset & 2) ? ray.step[1] : 0),
+                          b[2] + ((subset & 4) ? ray.step[2] : 0)};
+        if (matters(n[0], n[1], n[2]))
+          return tc[a];
+      }
+    b[a] += ray.step[a];
+    if (matters(b[0], b[1], b[2]))
+      return tc[a];
+    tc[a] += tc_step[a];
+  }
+}
+
+/// \brief Takes at once every DDA step that enters a voxel before `target`: OctoMap's
+/// steps are the merge of the three axes' border crossings ordered by t, so those are,
+/// per axis, the additions while t_max < target (advanceWhileBelow), and the state is
+/// the one stepping one by one would reach. The caller keeps `target` short of any voxel
+/// that must be visited (a margin far above the rounding of nextBrickEntry) and two
+/// voxels short of the segment's length (no jumped step is the end voxel or trips
+/// OctoMap's length rule).
+inline void advanceBelow(const MarchRay& ray, double target, double t[3], int k[3])
+{
+  for (int a = 0; a < 3; ++a) {
+    long long n = 0;
+    if ((target - t[a]) * ray.inv_dt[a] < 48.0) {
+      // Few additions: one by one is faster than advanceWhileBelow's bulk steps.
+      for (double v = t[a], d = ray.dt[a]; v < target; v += d, t[a] = v)
+        ++n;
+    } else {
+      n = advanceWhileBelow(t[a], ray.dt[a], target);
+    }
+    k[a] += static_cast<int>(n) * ray.step[a];
+  }
+}
+
+namespace detail {
+/// What traverseRayInRegion's jump did.
+enum class Jump { stop, jumped, walk };
+
+/// traverseRayInRegion's jump, out of line (rare; the walk's state stays in registers).
+/// A gap shorter than `min_jump` (metres along the ray) is walked: its steps cost less
+/// than the jump. `walk_until` is then where the gap ends.
+template <typename Region>
+[[gnu::noinline]] Jump
+jumpToNextBrick(const MarchRay& march, const VoxelLattice& lattice, const Region& region,
+                double limit, double margin, double min_jump, double checks_from,
+                double t_entry, double t[3], int k[3], double& walk_until)
+{
+  constexpr int shift = Region::kBrickShift;
+  int b[3] = {k[0] >> shift, k[1] >> shift, k[2] >> shift};
+  const double entry =
+      nextBrickEntry(march, lattice, shift, b, limit, [&region](int x, int y, int z) {
+        return region.containsBrick(x, y, z);
+      });
+  if (entry == std::numeric_limits<double>::infinity())
+    return Jump::stop;
+  const double target = std::min(entry - margin, checks_from);
+  if (target - t_entry < min_jump) {
+    walk_until = entry;
+    return Jump::walk;
+  }
+  advanceBelow(march, target, t, k);
+  return Jump::jumped;
+}
+} // namespace detail
+
+/// \brief traverseRay restricted to a region of bricks (cubes of voxels aligned with the
+/// octree, as the region's brick shift says; e.g. UpdateRegion): every voxel of
+/// traverseRay's sequence that lies in a brick of the region (`region.containsBrick(bx,
+/// by, bz)`) reaches the visitor, in order, as there; runs of bricks outside it are
+/// jumped over (nextBrickEntry, then advanceBelow) where they are long enough to pay, and
+/// their voxels may or may not reach it. The visitor gets `begin(kx, ky, kz, step)` for
+/// the origin's voxel (whatever its brick), `next(axis, kx, ky, kz, t_entry)` for a voxel
+/// one step from the last one it got, and `resume(kx, ky, kz)` after a jump: the ray's
+/// current voxel (not visited), from which the next `next` steps.
+template <typename Region, typename Visitor>
+void traverseRayInRegion(const float origin[3], const float end[3],
+                         const int key_origin[3], const int key_end[3],
+                         const VoxelLattice& lattice, const Region& region,
+                         Visitor& visitor)
+{
+  constexpr int shift = Region::kBrickShift;
+  RaySetup s;
+  if (!setupRay(origin, end, key_origin, key_end, lattice, s))
+    return;
+  visitor.begin(key_origin[0], key_origin[1], key_origin[2], s.step);
+  const MarchRay march = marchRay(origin, s);
+  // The loop's state in scalars, as in traverseRay (kept in registers).
+  double tx = s.t_max[0], ty = s.t_max[1], tz = s.t_max[2];
+  const double dx = s.t_delta[0], dy = s.t_delta[1], dz = s.t_delta[2];
+  const int sx = s.step[0], sy = s.step[1], sz = s.step[2];
+  const int ex = key_end[0], ey = key_end[1], ez = key_end[2];
+  int kx = key_origin[0], ky = key_origin[1], kz = key_origin[2];
+  const float length = s.length;
+  const double checks_from = length - 2.0 * lattice.resolution(); // see traverseRay
+  // Jumps stop this far short of the next brick that matters: far more than the
+  // rounding of its distance (~1e-13 m), far less than a voxel.
+  const double margin = 1e-4 * lattice.resolution();
+  const int mask = (1 << shift) - 1;
+  // key & mask right after a step into a new brick, per axis.
+  const int wrap_x = sx > 0 ? 0 : mask, wrap_y = sy > 0 ? 0 : mask,
+            wrap_z = sz > 0 ? 0 : mask;
+  // From a brick outside the region to just before the next one inside (or the end).
+  // A jump costs about as much as walking a few dozen voxels: shorter gaps are walked.
+  const double min_jump = 64.0 * lattice.resolution();
+  double walk_until = 0.0; // no brick checks before this (a gap being walked)
+  auto jump = [&](double t_entry) {
+    double t[3] = {tx, ty, tz};
+    int k[3] = {kx, ky, kz};
+    const detail::Jump j =
+        detail::jumpToNextBrick(march, lattice, region, length + margin, margin, min_jump,
+                                checks_from, t_entry, t, k, walk_until);
+    if (j == detail::Jump::jumped) {
+      tx = t[0], ty = t[1], tz = t[2];
+      kx = k[0], ky = k[1], kz = k[2];
+      visitor.resume(kx, ky, kz); // the current voxel was not visited
+    }
+    return j;
+  };
+  if (!region.containsBrick(kx >> shift, ky >> shift, kz >> shift) &&
+      jump(0.0) == detail::Jump::stop)
+    return;
+  for (;;) {
+    double t_entry;
+    const int axis = ddaStep(tx, ty, tz, dx, dy, dz, sx, sy, sz, kx, ky, kz, t_entry);
+    if (t_entry >= checks_from) {
+      if (kx == ex && ky == ey && kz == ez)
+        break;
+      if (std::min(std::min(tx, ty), tz) > length)
+        break;
+    }
+    const bool new_brick = axis == 0   ? (kx & mask) == wrap_x
+                           : axis == 1 ? (ky & mask) == wrap_y
+                                       : (kz & mask) == wrap_z;
+    if (new_brick && t_entry >= walk_until &&
+        !region.containsBrick(kx >> shift, ky >> shift, kz >> shift)) {
+      const detail::Jump j = jump(t_entry);
+      if (j == detail::Jump::stop)
+        break;
+      if (j == detail::Jump::jumped)
+        continue;
+    }
+    visitor.next(axis, kx, ky, kz, t_entry);
+  }
+}
+
 } // namespace ray_traversal
 } // namespace plantnbv

@@ -1,0 +1,95 @@
+#pragma once
+/// \file update_region.h
+/// \brief UpdateRegion: the voxels whose state a caller of OccupancyMap will read, so
+/// that `insert` can leave out free space that nobody reads.
+
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include <plantnbv/common/box.h>
+#include <plantnbv/common/triangle_mesh.h>
+#include <plantnbv/common/voxel_lattice.h>
+
+namespace plantnbv {
+
+/// \brief A set of voxels of a map's lattice, in bricks of 8^3 voxels (octree nodes at
+/// depth 13), over the bricks that overlap a bounding box; every voxel outside those
+/// bricks belongs to the region.
+///
+/// Given to OccupancyMap::setUpdateRegion, it tells `insert` which voxels must get
+/// exactly the updates of a full insertion: the rays then jump over runs of bricks
+/// outside the region (ray_traversal::traverseRayInRegion), and voxels there may stay
+/// unknown where the full map has them free. A simulated trial reads only its ROIs'
+/// voxels and the occupied ones, and a voxel can only become occupied where a ray ends
+/// on the scene's surface: a region of the ROIs and the bricks around the scene's
+/// triangles gives the trial the same plans and scores as the full map (docs/trials.md).
+///
+/// Bricks are added conservatively: a brick is in the region when it overlaps the
+/// shape grown by the margin (a box test on each triangle's bounding box, large
+/// triangles split first).
+class UpdateRegion {
+public:
+  static constexpr int kBrickShift = 3; ///< bricks of 2^3 voxels per side
+
+  /// \brief An empty region of a map with voxels of `resolution_m` (> 0), over the
+  /// bricks that overlap `bounds_W` (clipped to the octree); voxels outside them are in
+  /// the region. \throws InvalidArgumentError if the resolution is not finite and > 0
+  /// or the bounds would need more than 2^30 bricks.
+  UpdateRegion(double resolution_m, const Box& bounds_W);
+
+  /// \brief Adds every brick that overlaps `box_W` grown by `margin_m` (>= 0) on each
+  /// side. \throws InvalidArgumentError if the margin is negative or not finite.
+  void addBox(const Box& box_W, double margin_m = 0.0);
+  /// \brief Adds every brick within `margin_m` (>= 0) of a triangle of `mesh_W` (at
+  /// least those; triangles are tested by their bounding boxes).
+  /// \throws InvalidArgumentError if the margin is negative or not finite.
+  void addMesh(const TriangleMesh& mesh_W, double margin_m);
+
+  /// \brief Whether brick (bx, by, bz) (key >> kBrickShift per axis) is in the region.
+  bool containsBrick(int bx, int by, int bz) const
+  {
+    const unsigned x = static_cast<unsigned>(bx - lo_[0]);
+    const unsigned y = static_cast<unsigned>(by - lo_[1]);
+    const unsigned z = static_cast<unsigned>(bz - lo_[2]);
+    if (x >= static_cast<unsigned>(n_[0]) || y >= static_cast<unsigned>(n_[1]) ||
+        z >= static_cast<unsigned>(n_[2]))
+      return true; // outside the bounds
+    const std::size_t row =
+        static_cast<std::size_t>(z) * static_cast<std::size_t>(n_[1]) + y;
+    return (bits_[row * stride_ + (x >> 6)] >> (x & 63)) & 1u;
+  }
+  /// \brief Whether the voxel of key (kx, ky, kz) is in the region.
+  bool containsKey(int kx, int ky, int kz) const
+  {
+    return containsBrick(kx >> kBrickShift, ky >> kBrickShift, kz >> kBrickShift);
+  }
+  /// \brief The voxel edge (metres) of the lattice the region is made for.
+  double resolution() const { return lattice_.resolution(); }
+  /// \brief The bricks of the bounds that are in the region.
+  std::size_t brickCount() const;
+  /// \brief The bricks of the bounds.
+  std::size_t boundsBrickCount() const
+  {
+    return static_cast<std::size_t>(n_[0]) * static_cast<std::size_t>(n_[1]) *
+           static_cast<std::size_t>(n_[2]);
+  }
+
+private:
+  /// Adds the bricks that overlap [lo, hi] (metres), clipped to the bounds.
+  void addBounds(const double lo[3], const double hi[3]);
+  void addTriangle(const Eigen::Vector3d& a, const Eigen::Vector3d& b,
+                   const Eigen::Vector3d& c, double margin_m, int depth);
+  /// The brick holding `coordinate` along an axis, clamped to the octree.
+  int brickOf(double coordinate) const;
+
+  VoxelLattice lattice_;
+  int lo_[3] = {0, 0, 0};  ///< brick coordinates of the first brick of the bounds
+  int n_[3] = {0, 0, 0};   ///< bricks of the bounds per axis
+  std::size_t stride_ = 0; ///< words per row of bricks along x
+  double bounds_lo_[3] = {0.0, 0.0, 0.0}; ///< the bounds' bricks, metres
+  double bounds_hi_[3] = {0.0, 0.0, 0.0};
+  std::vector<std::uint64_t> bits_; ///< the region's bricks, rows along x
+};
+
+} // namespace plantnbv
