@@ -6,6 +6,8 @@
 #include <string>
 
 #include <gtest/gtest.h>
+#include <pcl/point_cloud.h>
+#include <pcl/point_types.h>
 
 #include <plantnbv/common/error.h>
 #include <plantnbv/experiment/trial.h>
@@ -77,6 +79,8 @@ void expectSameSteps(const TrialResult& a, const TrialResult& b)
     EXPECT_EQ(s.view.position, t.view.position) << i;
     EXPECT_EQ(s.view.orientation.coeffs(), t.view.orientation.coeffs()) << i;
     EXPECT_TRUE(s.gain == t.gain || (std::isnan(s.gain) && std::isnan(t.gain))) << i;
+    EXPECT_EQ(s.unknown_seen, t.unknown_seen) << i;
+    EXPECT_EQ(s.candidates, t.candidates) << i;
     EXPECT_EQ(s.occupied_voxels, t.occupied_voxels) << i;
     ASSERT_EQ(s.organs.size(), t.organs.size());
     for (std::size_t o = 0; o < s.organs.size(); ++o)
@@ -84,7 +88,11 @@ void expectSameSteps(const TrialResult& a, const TrialResult& b)
                   (std::isnan(s.organs[o].recall) && std::isnan(t.organs[o].recall)));
     ASSERT_EQ(s.scores.size(), t.scores.size());
     for (std::size_t l = 0; l < s.scores.size(); ++l) {
+      EXPECT_EQ(s.scores[l].precision, t.scores[l].precision) << i;
+      EXPECT_EQ(s.scores[l].recall, t.scores[l].recall) << i;
       EXPECT_EQ(s.scores[l].f1, t.scores[l].f1) << i;
+      EXPECT_EQ(s.scores[l].reconstruction_points, t.scores[l].reconstruction_points)
+          << i;
       EXPECT_TRUE(s.scores[l].chamfer == t.scores[l].chamfer ||
                   (std::isnan(s.scores[l].chamfer) && std::isnan(t.scores[l].chamfer)));
     }
@@ -140,6 +148,67 @@ TEST(Trial, SameSeedSameTrialOnOneAndTwoThreads)
     EXPECT_NE(other.steps[1].view.position, one.steps[1].view.position)
         << plannerKindName(kind);
   }
+}
+
+TEST(Trial, WithoutTheFullMapTheStepsAndScoresAreTheFullMaps)
+{
+  // The update region (setKeepFullMap(false)) leaves free space out of the map, but
+  // not a voxel that planning or scoring reads: every step equals the full map's.
+  const auto plant = plantAt(3, 30.0);
+  struct Case {
+    PlannerKind planner;
+    Roi attention;
+    double depth_scale;
+    double explore_share;
+  };
+  const Case cases[] = {
+      {PlannerKind::nbv, wholePlantRoi(*plant), 0.0, 0.0},
+      {PlannerKind::nbv, leafNodeRoi(*plant), 0.0, 0.0},
+      {PlannerKind::nbv, mainStemRoi(*plant), 1000.0, 0.0},
+      {PlannerKind::nbv, leafNodeRoi(*plant), 0.0, 0.5},
+      {PlannerKind::predefined, wholePlantRoi(*plant), 0.0, 0.0},
+      {PlannerKind::random, leafNodeRoi(*plant), 0.0, 0.0},
+  };
+  for (const Case& k : cases) {
+    TrialConfig config = smallConfig(k.planner, 5);
+    config.seed = 5;
+    config.depth_scale = k.depth_scale;
+    config.explore_share = k.explore_share;
+    TrialResult full_result, part_result;
+    const auto full = setUpTrial(config, plant, k.attention);
+    full->setExplorationRoi(wholePlantRoi(*plant));
+    full->run(full_result);
+    const auto part = setUpTrial(config, plant, k.attention);
+    part->setExplorationRoi(wholePlantRoi(*plant));
+    part->setKeepFullMap(false);
+    part->run(part_result);
+    SCOPED_TRACE(std::string(plannerKindName(k.planner)) + " " +
+                 k.attention.boxes().front().name);
+    expectSameSteps(full_result, part_result);
+    // The same occupied voxels, with less free space around them.
+    CloudXYZ full_occupied, part_occupied;
+    full->getMap().getOccupiedVoxelCentres(full_occupied);
+    part->getMap().getOccupiedVoxelCentres(part_occupied);
+    ASSERT_EQ(full_occupied.size(), part_occupied.size());
+    for (std::size_t i = 0; i < full_occupied.size(); ++i)
+      ASSERT_EQ(full_occupied[i].getVector3fMap(), part_occupied[i].getVector3fMap());
+    EXPECT_LT(part->getMap().countVoxels().free, full->getMap().countVoxels().free / 2);
+  }
+}
+
+TEST(Trial, KeepsTheFullMapWhereItsReadsAreNotKnownBeforehand)
+{
+  // No attention ROI: the planner reads every voxel, so the map stays whole.
+  const auto plant = plantAt(3, 30.0);
+  TrialConfig config = smallConfig(PlannerKind::nbv, 2);
+  TrialResult full_result, part_result;
+  const auto full = setUpTrial(config, plant, Roi());
+  full->run(full_result);
+  const auto part = setUpTrial(config, plant, Roi());
+  part->setKeepFullMap(false);
+  part->run(part_result);
+  expectSameSteps(full_result, part_result);
+  EXPECT_EQ(part->getMap().countVoxels().free, full->getMap().countVoxels().free);
 }
 
 TEST(Trial, PredefinedPlannerVisitsTheGridCentresInItsPattern)

@@ -210,6 +210,55 @@ void Trial::run(TrialResult& result)
 {
   if (!plant_)
     throw InvalidArgumentError("Trial: no plant set");
+  const bool with_region = !keep_full_map_ && !callback_ && !frame_callback_;
+  if (!runOnce(result, with_region))
+    runOnce(result, false); // a hit outside the region: the full map after all
+}
+
+std::shared_ptr<const UpdateRegion>
+Trial::readRegion(const TriangleMesh& background) const
+{
+  const TrialConfig& c = config_;
+  // The planner reads its ROIs' voxels and the occupied ones only when it has fixed
+  // ROIs and no visibility weighting (gain_snapshot.h); a voxel becomes occupied only
+  // where a ray ends, on the scene's triangles up to rounding, when the sensor has no
+  // noise and the plant is a mesh.
+  const bool explores = c.planner == PlannerKind::nbv &&
+                        (c.explore_share > 0.0 || c.roi_source.explorationViews() > 0);
+  if (attended_.empty() || (explores && exploration_.empty()) ||
+      c.roi_source.followsFrames() || c.gain.visibility_weighted || c.noise.enabled ||
+      plant_->mesh.empty())
+    return nullptr;
+  const double res = c.map.resolution_m;
+  // Rays reach max_range_m from a camera on the sector or at v0; outside these bounds
+  // every voxel counts as read.
+  const double reach = c.map.max_range_m + res;
+  const Eigen::Vector3d v0 =
+      c.initial_view.position + (plant_->base_position - paperPlantBase());
+  const Eigen::Vector3d sector_lo =
+      sector_.axis_base +
+      Eigen::Vector3d(-sector_.radius_m, -sector_.radius_m, sector_.bottom_m);
+  const Eigen::Vector3d sector_hi =
+      sector_.axis_base + Eigen::Vector3d(sector_.radius_m, sector_.radius_m,
+                                          sector_.bottom_m + sector_.height_m);
+  const Box bounds = Box::fromMinMax(sector_lo.cwiseMin(v0).array() - reach,
+                                     sector_hi.cwiseMax(v0).array() + reach);
+  auto region = std::make_shared<UpdateRegion>(res, bounds);
+  // A point lies on a triangle up to the sensor's rounding (and, with depth_scale, half
+  // a depth unit along the ray); a voxel's margin covers both.
+  const double surface_margin = res + (c.depth_scale > 0.0 ? 1.0 / c.depth_scale : 0.0);
+  region->addMesh(plant_->mesh, surface_margin);
+  region->addMesh(background, surface_margin);
+  for (const Box& box : attended_.boxes())
+    region->addBox(box, 2.0 * res);
+  if (explores)
+    for (const Box& box : exploration_.boxes())
+      region->addBox(box, 2.0 * res);
+  return region;
+}
+
+bool Trial::runOnce(TrialResult& result, bool with_region)
+{
   const TrialConfig& c = config_;
   Stopwatch total_clock;
   result = TrialResult{};
@@ -276,6 +325,9 @@ void Trial::run(TrialResult& result)
   // The prior: leaf nodes along the stem, the detected ones added to them.
   const LeafNodePrior prior(c.roi_source.priorConfig());
   map_ = session.getMap();
+  const std::shared_ptr<const UpdateRegion> region =
+      with_region ? readRegion(background) : nullptr;
+  map_->setUpdateRegion(region);
   result.setup_ms = setup_clock.ms();
   auto checkTimeLimit = [&](const char* after) {
     if (c.time_limit_s > 0.0 && total_clock.ms() > 1000.0 * c.time_limit_s) {
@@ -330,6 +382,8 @@ void Trial::run(TrialResult& result)
       session.integrate(frame, view.position);
     }
     step.insert_ms = insert_clock.ms();
+    if (region && map_->getLastInsertStats().hits_outside_region > 0)
+      return false;
     if (detecting) { // the depth as integrated: a frames folder replays to this ROI
       detector.detect(frame, attention_, static_cast<std::uint64_t>(index), detections);
       fusion.addFrame(detections, depth, c.camera, T_W_O);
@@ -366,6 +420,7 @@ void Trial::run(TrialResult& result)
               .c_str());
   }
   result.total_ms = total_clock.ms();
+  return true;
 }
 
 } // namespace plantnbv

@@ -522,6 +522,7 @@ void runCampaignTrial(const CampaignFile& f, const TrialSpec& t, TrialResult& re
   Trial trial(config);
   setUpTrial(placed, attentionRoi(placed, attention), levels, trial);
   trial.setNeighbours(rowNeighbourPlants(placed, t.row_spacing_m, config));
+  trial.setKeepFullMap(false); // a campaign keeps the steps and scores, not the map
   trial.run(result);
 }
 

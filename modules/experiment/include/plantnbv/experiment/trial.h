@@ -235,12 +235,25 @@ public:
     frame_callback_ = std::move(callback);
   }
 
+  /// \brief Whether run() must leave the full map (default true): every voxel as a full
+  /// insertion of the frames makes it. false, for callers that only want the steps and
+  /// scores (a campaign): where the planner reads only fixed ROIs and the occupied
+  /// voxels (an attention ROI, not from detections; no visibility weighting; a mesh
+  /// plant; no noise; no callbacks), run() inserts exactly only the ROIs' voxels and the
+  /// voxels near the scene's surface, the only ones a frame can make occupied
+  /// (OccupancyMap::setUpdateRegion), and skips the rest of the free space. The steps
+  /// and scores are the same; should a hit fall outside that region, run() starts again
+  /// with the full map.
+  void setKeepFullMap(bool keep) { keep_full_map_ = keep; }
+  /// \brief See setKeepFullMap.
+  bool getKeepFullMap() const { return keep_full_map_; }
+
   /// \brief Runs the trial from an empty map. \throws InvalidArgumentError if no plant
   /// was set; TimeLimitError after TrialConfig::time_limit_s; the modules' errors
   /// otherwise.
   void run(TrialResult& result);
 
-  /// \brief The map after run() (empty before).
+  /// \brief The map after run() (empty before); see setKeepFullMap.
   const OccupancyMap& getMap() const { return *map_; }
   /// \brief The evaluator of the last run(): its ground truth, levels and background,
   /// e.g. to classify the map's voxels by outcome. \throws InvalidArgumentError before
@@ -260,6 +273,14 @@ private:
   std::function<void(const TrialStep&)> callback_;
   std::function<void(const TrialFrame&)> frame_callback_;
   std::shared_ptr<OccupancyMap> map_;
+  bool keep_full_map_ = true;
+
+  /// One run, with an update region where readRegion gives one (`with_region`); false
+  /// when a hit fell outside it (the result is then incomplete).
+  bool runOnce(TrialResult& result, bool with_region);
+  /// A region that holds every voxel this run reads (after attended_ and sector_ are
+  /// set), or null where it may read any voxel.
+  std::shared_ptr<const UpdateRegion> readRegion(const TriangleMesh& background) const;
   std::shared_ptr<ReconstructionEvaluator> evaluator_;
   CylindricalSector sector_;
 };
