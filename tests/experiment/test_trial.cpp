@@ -209,6 +209,17 @@ TEST(Trial, KeepsTheFullMapWhereItsReadsAreNotKnownBeforehand)
   part->run(part_result);
   expectSameSteps(full_result, part_result);
   EXPECT_EQ(part->getMap().countVoxels().free, full->getMap().countVoxels().free);
+
+  // A sector of tens of metres: a region would cost more than it saves, and must not
+  // fail the trial.
+  config.sector.radius_m = 40.0;
+  const auto far_full = setUpTrial(config, plant, wholePlantRoi(*plant));
+  far_full->run(full_result);
+  const auto far_part = setUpTrial(config, plant, wholePlantRoi(*plant));
+  far_part->setKeepFullMap(false);
+  far_part->run(part_result);
+  expectSameSteps(full_result, part_result);
+  EXPECT_EQ(far_part->getMap().countVoxels().free, far_full->getMap().countVoxels().free);
 }
 
 TEST(Trial, PredefinedPlannerVisitsTheGridCentresInItsPattern)
