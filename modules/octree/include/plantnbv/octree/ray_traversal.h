@@ -125,13 +125,19 @@ inline int ddaStep(double& tx, double& ty, double& tz, double dx, double dy, dou
 /// ulp; except when delta's remainder is exactly half an ulp, where ties-to-even
 /// alternates: those additions are made one by one). Runs of additions that stay in a
 /// binade are therefore one multiplication; only the additions that leave a binade are
-/// made as such. O(binades crossed) instead of O(additions).
+/// made as such. O(binades crossed) instead of O(additions). A run of few additions
+/// (under 48) is made one by one: cheaper than the bulk steps' bookkeeping.
 /// \pre delta > 0 and finite, and not below t's ulp (every addition changes t).
 /// \return the number of additions.
 inline long long advanceWhileBelow(double& t, double delta, double target)
 {
   long long n = 0;
   const double inv_delta = 1.0 / delta; // only to estimate counts (corrected exactly)
+  if ((target - t) * inv_delta < 48.0) {
+    for (; t < target; ++n)
+      t += delta;
+    return n;
+  }
   while (t < target) {
     std::uint64_t bits;
     std::memcpy(&bits, &t, sizeof bits);
@@ -241,7 +247,6 @@ struct MarchRay {
   double o[3];       ///< origin (OctoMap's float origin)
   double inv_dir[3]; ///< 1 / OctoMap's float unit direction (0 where it is 0)
   double dt[3];      ///< the DDA's t_delta
-  double inv_dt[3];  ///< 1 / dt (0 where dt is infinite), for estimates only
   int step[3];       ///< the DDA's step
 };
 
@@ -253,7 +258,6 @@ inline MarchRay marchRay(const float origin[3], const RaySetup& s)
     m.o[a] = origin[a];
     m.inv_dir[a] = s.direction[a] != 0.0f ? 1.0 / s.direction[a] : 0.0;
     m.dt[a] = s.t_delta[a];
-    m.inv_dt[a] = 1.0 / s.t_delta[a];
     m.step[a] = s.step[a];
   }
   return m;
@@ -318,17 +322,8 @@ double nextBrickEntry(const MarchRay& ray, const VoxelLattice& lattice, int shif
 /// OctoMap's length rule).
 inline void advanceBelow(const MarchRay& ray, double target, double t[3], int k[3])
 {
-  for (int a = 0; a < 3; ++a) {
-    long long n = 0;
-    if ((target - t[a]) * ray.inv_dt[a] < 48.0) {
-      // Few additions: one by one is faster than advanceWhileBelow's bulk steps.
-      for (double v = t[a], d = ray.dt[a]; v < target; v += d, t[a] = v)
-        ++n;
-    } else {
-      n = advanceWhileBelow(t[a], ray.dt[a], target);
-    }
-    k[a] += static_cast<int>(n) * ray.step[a];
-  }
+  for (int a = 0; a < 3; ++a)
+    k[a] += static_cast<int>(advanceWhileBelow(t[a], ray.dt[a], target)) * ray.step[a];
 }
 
 namespace detail {
