@@ -181,6 +181,19 @@ inline long long advanceWhileBelow(double& t, double delta, double target)
   return n;
 }
 
+/// \brief The region of every brick: traverseRayInRegion over it is traverseRay.
+struct WholeLattice {
+  static constexpr int kBrickShift = 3; ///< any: no brick is ever asked
+  /// \brief Every brick is in it.
+  static constexpr bool containsBrick(int, int, int) { return true; }
+};
+
+template <typename Region, typename Visitor>
+void traverseRayInRegion(const float origin[3], const float end[3],
+                         const int key_origin[3], const int key_end[3],
+                         const VoxelLattice& lattice, const Region& region,
+                         Visitor& visitor);
+
 /// \brief The voxels of the segment origin -> end, end voxel excluded, in order: 3D DDA
 /// after J. Amanatides and A. Woo, "A Fast Voxel Traversal Algorithm for Ray Tracing",
 /// Eurographics 1987. This is OctoMap 1.9.x's OcTreeBaseImpl::computeRayKeys operation
@@ -204,42 +217,7 @@ template <typename Visitor>
 void traverseRay(const float origin[3], const float end[3], const int key_origin[3],
                  const int key_end[3], const VoxelLattice& lattice, Visitor& visitor)
 {
-  RaySetup s;
-  if (!setupRay(origin, end, key_origin, key_end, lattice, s))
-    return;
-  if (!detail::proceed([&] {
-        return visitor.begin(key_origin[0], key_origin[1], key_origin[2], s.step);
-      }))
-    return;
-
-  // The loop in scalars, not arrays indexed by the axis, which the compiler keeps in
-  // registers (several times faster per step). Same operations in the same order.
-  double tx = s.t_max[0], ty = s.t_max[1], tz = s.t_max[2];
-  const double dx = s.t_delta[0], dy = s.t_delta[1], dz = s.t_delta[2];
-  const int sx = s.step[0], sy = s.step[1], sz = s.step[2];
-  const int ex = key_end[0], ey = key_end[1], ez = key_end[2];
-  const float length = s.length;
-  int kx = key_origin[0], ky = key_origin[1], kz = key_origin[2];
-  // A voxel entered more than two voxels (> sqrt(3)) short of the segment's length is
-  // left before it: it is not the end voxel, and OctoMap's length rule cannot stop there.
-  const double checks_from = length - 2.0 * lattice.resolution();
-  for (;;) {
-    double t_entry;
-    const int axis = ddaStep(tx, ty, tz, dx, dy, dz, sx, sy, sz, kx, ky, kz, t_entry);
-    if (t_entry < checks_from) {
-      if (!detail::proceed([&] { return visitor.next(axis, kx, ky, kz, t_entry); }))
-        break;
-      continue;
-    }
-    if (kx == ex && ky == ey && kz == ez)
-      break;
-    // Past the segment's length without reaching the end voxel (rounding): stop.
-    const double dist_from_origin = std::min(std::min(tx, ty), tz);
-    if (dist_from_origin > length)
-      break;
-    if (!detail::proceed([&] { return visitor.next(axis, kx, ky, kz, t_entry); }))
-      break;
-  }
+  traverseRayInRegion(origin, end, key_origin, key_end, lattice, WholeLattice{}, visitor);
 }
 
 /// \brief A ray as the brick march below sees it.
@@ -355,6 +333,28 @@ jumpToNextBrick(const MarchRay& march, const VoxelLattice& lattice, const Region
   advanceBelow(march, target, t, k);
   return Jump::jumped;
 }
+
+/// The jump as traverseRayInRegion's loop sees it: its state in and out, and the visitor
+/// told where the ray resumes.
+template <typename Region, typename Visitor>
+inline Jump jumpInRegion(const float origin[3], const RaySetup& s,
+                         const VoxelLattice& lattice, const Region& region, double margin,
+                         double min_jump, double checks_from, double t_entry, double& tx,
+                         double& ty, double& tz, int& kx, int& ky, int& kz,
+                         double& walk_until, Visitor& visitor)
+{
+  double t[3] = {tx, ty, tz};
+  int k[3] = {kx, ky, kz};
+  const Jump j =
+      jumpToNextBrick(marchRay(origin, s), lattice, region, s.length + margin, margin,
+                      min_jump, checks_from, t_entry, t, k, walk_until);
+  if (j == Jump::jumped) {
+    tx = t[0], ty = t[1], tz = t[2];
+    kx = k[0], ky = k[1], kz = k[2];
+    visitor.resume(kx, ky, kz); // the current voxel was not visited
+  }
+  return j;
+}
 } // namespace detail
 
 /// \brief traverseRay restricted to a region of bricks (cubes of voxels aligned with the
@@ -364,7 +364,8 @@ jumpToNextBrick(const MarchRay& march, const VoxelLattice& lattice, const Region
 /// jumped over (nextBrickEntry, then advanceBelow) where they are long enough to pay, and
 /// their voxels may or may not reach it. The visitor gets `begin(kx, ky, kz, step)` for
 /// the origin's voxel (whatever its brick), `next(axis, kx, ky, kz, t_entry)` for a voxel
-/// one step from the last one it got, and `resume(kx, ky, kz)` after a jump: the ray's
+/// one step from the last one it got (either may return bool, as in traverseRay, which
+/// is this walk over WholeLattice), and `resume(kx, ky, kz)` after a jump: the ray's
 /// current voxel (not visited), from which the next `next` steps.
 template <typename Region, typename Visitor>
 void traverseRayInRegion(const float origin[3], const float end[3],
@@ -372,68 +373,73 @@ void traverseRayInRegion(const float origin[3], const float end[3],
                          const VoxelLattice& lattice, const Region& region,
                          Visitor& visitor)
 {
+  constexpr bool kJumps = !std::is_same_v<Region, WholeLattice>;
   constexpr int shift = Region::kBrickShift;
   RaySetup s;
   if (!setupRay(origin, end, key_origin, key_end, lattice, s))
     return;
-  visitor.begin(key_origin[0], key_origin[1], key_origin[2], s.step);
-  const MarchRay march = marchRay(origin, s);
-  // The loop's state in scalars, as in traverseRay (kept in registers).
+  if (!detail::proceed([&] {
+        return visitor.begin(key_origin[0], key_origin[1], key_origin[2], s.step);
+      }))
+    return;
+
+  // The loop in scalars, not arrays indexed by the axis, which the compiler keeps in
+  // registers (several times faster per step). Same operations in the same order.
   double tx = s.t_max[0], ty = s.t_max[1], tz = s.t_max[2];
   const double dx = s.t_delta[0], dy = s.t_delta[1], dz = s.t_delta[2];
   const int sx = s.step[0], sy = s.step[1], sz = s.step[2];
   const int ex = key_end[0], ey = key_end[1], ez = key_end[2];
-  int kx = key_origin[0], ky = key_origin[1], kz = key_origin[2];
   const float length = s.length;
-  const double checks_from = length - 2.0 * lattice.resolution(); // see traverseRay
-  // Jumps stop this far short of the next brick that matters: far more than the
-  // rounding of its distance (~1e-13 m), far less than a voxel.
+  int kx = key_origin[0], ky = key_origin[1], kz = key_origin[2];
+  // A voxel entered more than two voxels (> sqrt(3)) short of the segment's length is
+  // left before it: it is not the end voxel, and OctoMap's length rule cannot stop there.
+  const double checks_from = length - 2.0 * lattice.resolution();
+
+  // The region's jumps (none over the whole lattice). They stop `margin` short of the
+  // next brick of the region: far more than the rounding of its distance (~1e-13 m), far
+  // less than a voxel. A jump costs about as much as walking a few dozen voxels: shorter
+  // gaps (min_jump) are walked, with no brick checks before walk_until.
   const double margin = 1e-4 * lattice.resolution();
+  const double min_jump = 64.0 * lattice.resolution();
+  double walk_until = 0.0;
   const int mask = (1 << shift) - 1;
   // key & mask right after a step into a new brick, per axis.
   const int wrap_x = sx > 0 ? 0 : mask, wrap_y = sy > 0 ? 0 : mask,
             wrap_z = sz > 0 ? 0 : mask;
-  // From a brick outside the region to just before the next one inside (or the end).
-  // A jump costs about as much as walking a few dozen voxels: shorter gaps are walked.
-  const double min_jump = 64.0 * lattice.resolution();
-  double walk_until = 0.0; // no brick checks before this (a gap being walked)
-  auto jump = [&](double t_entry) {
-    double t[3] = {tx, ty, tz};
-    int k[3] = {kx, ky, kz};
-    const detail::Jump j =
-        detail::jumpToNextBrick(march, lattice, region, length + margin, margin, min_jump,
-                                checks_from, t_entry, t, k, walk_until);
-    if (j == detail::Jump::jumped) {
-      tx = t[0], ty = t[1], tz = t[2];
-      kx = k[0], ky = k[1], kz = k[2];
-      visitor.resume(kx, ky, kz); // the current voxel was not visited
-    }
-    return j;
-  };
-  if (!region.containsBrick(kx >> shift, ky >> shift, kz >> shift) &&
-      jump(0.0) == detail::Jump::stop)
-    return;
+  if constexpr (kJumps)
+    if (!region.containsBrick(kx >> shift, ky >> shift, kz >> shift) &&
+        detail::jumpInRegion(origin, s, lattice, region, margin, min_jump, checks_from,
+                             0.0, tx, ty, tz, kx, ky, kz, walk_until,
+                             visitor) == detail::Jump::stop)
+      return;
+
   for (;;) {
     double t_entry;
     const int axis = ddaStep(tx, ty, tz, dx, dy, dz, sx, sy, sz, kx, ky, kz, t_entry);
     if (t_entry >= checks_from) {
       if (kx == ex && ky == ey && kz == ez)
         break;
+      // Past the segment's length without reaching the end voxel (rounding): stop.
       if (std::min(std::min(tx, ty), tz) > length)
         break;
     }
-    const bool new_brick = axis == 0   ? (kx & mask) == wrap_x
-                           : axis == 1 ? (ky & mask) == wrap_y
-                                       : (kz & mask) == wrap_z;
-    if (new_brick && t_entry >= walk_until &&
-        !region.containsBrick(kx >> shift, ky >> shift, kz >> shift)) {
-      const detail::Jump j = jump(t_entry);
-      if (j == detail::Jump::stop)
-        break;
-      if (j == detail::Jump::jumped)
-        continue;
+    if constexpr (kJumps) {
+      const bool new_brick = axis == 0   ? (kx & mask) == wrap_x
+                             : axis == 1 ? (ky & mask) == wrap_y
+                                         : (kz & mask) == wrap_z;
+      if (new_brick && t_entry >= walk_until &&
+          !region.containsBrick(kx >> shift, ky >> shift, kz >> shift)) {
+        const detail::Jump j = detail::jumpInRegion(
+            origin, s, lattice, region, margin, min_jump, checks_from, t_entry, tx, ty,
+            tz, kx, ky, kz, walk_until, visitor);
+        if (j == detail::Jump::stop)
+          break;
+        if (j == detail::Jump::jumped)
+          continue;
+      }
     }
-    visitor.next(axis, kx, ky, kz, t_entry);
+    if (!detail::proceed([&] { return visitor.next(axis, kx, ky, kz, t_entry); }))
+      break;
   }
 }
 
