@@ -245,11 +245,7 @@ Trial::readRegion(const TriangleMesh& background) const
                                      sector_hi.cwiseMax(v0).array() + reach);
   // A region's bits take one bit a brick: past 2^24 bricks (2 MiB; a sector of metres or
   // a fine map) the full map costs less than building the region for every trial.
-  const double brick_m = res * (1 << UpdateRegion::kBrickShift);
-  double bricks = 1.0;
-  for (int a = 0; a < 3; ++a)
-    bricks *= bounds.size[a] / brick_m + 2.0;
-  if (!(bricks <= double(1 << 24)))
+  if (UpdateRegion::bricksOver(res, bounds) > (std::size_t{1} << 24))
     return nullptr;
   auto region = std::make_shared<UpdateRegion>(res, bounds);
   // A point lies on a triangle up to the sensor's rounding (and, with depth_scale, half

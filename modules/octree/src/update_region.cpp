@@ -26,7 +26,28 @@ void requireMargin(double margin_m, const char* who)
   }
 }
 
+/// The brick holding `coordinate` along an axis, clamped to the octree.
+int brickOf(const VoxelLattice& lattice, double coordinate)
+{
+  const double f = std::floor(lattice.resolutionFactor() * coordinate) +
+                   static_cast<double>(VoxelLattice::kKeyOffset);
+  const double key = f > 0.0
+                         ? std::min(f, static_cast<double>(VoxelLattice::kKeyLimit - 1))
+                         : 0.0; // also NaN
+  return static_cast<int>(key) >> UpdateRegion::kBrickShift;
+}
+
 } // namespace
+
+std::size_t UpdateRegion::bricksOver(double resolution_m, const Box& bounds_W)
+{
+  const VoxelLattice lattice(resolution_m);
+  std::size_t bricks = 1;
+  for (int a = 0; a < 3; ++a)
+    bricks *= static_cast<std::size_t>(brickOf(lattice, bounds_W.max()[a]) -
+                                       brickOf(lattice, bounds_W.min()[a]) + 1);
+  return bricks;
+}
 
 UpdateRegion::UpdateRegion(double resolution_m, const Box& bounds_W)
     : lattice_(resolution_m)
@@ -37,14 +58,7 @@ UpdateRegion::UpdateRegion(double resolution_m, const Box& bounds_W)
       << " must be finite and > 0 (metres)";
     throw InvalidArgumentError(s.str());
   }
-  std::size_t bricks = 1;
-  for (int a = 0; a < 3; ++a) {
-    lo_[a] = brickOf(bounds_W.min()[a]);
-    n_[a] = brickOf(bounds_W.max()[a]) - lo_[a] + 1;
-    bricks *= static_cast<std::size_t>(n_[a]);
-    bounds_lo_[a] = lattice_.keyToLowerFace(lo_[a] << kBrickShift);
-    bounds_hi_[a] = lattice_.keyToLowerFace((lo_[a] + n_[a]) << kBrickShift);
-  }
+  const std::size_t bricks = bricksOver(resolution_m, bounds_W);
   if (bricks > kMaxBricks) {
     std::ostringstream s;
     s << "UpdateRegion: bounds of " << bounds_W.size.transpose() << " m hold " << bricks
@@ -52,19 +66,15 @@ UpdateRegion::UpdateRegion(double resolution_m, const Box& bounds_W)
       << " m (at most " << kMaxBricks << ")";
     throw InvalidArgumentError(s.str());
   }
+  for (int a = 0; a < 3; ++a) {
+    lo_[a] = brickOf(lattice_, bounds_W.min()[a]);
+    n_[a] = brickOf(lattice_, bounds_W.max()[a]) - lo_[a] + 1;
+    bounds_lo_[a] = lattice_.keyToLowerFace(lo_[a] << kBrickShift);
+    bounds_hi_[a] = lattice_.keyToLowerFace((lo_[a] + n_[a]) << kBrickShift);
+  }
   stride_ = (static_cast<std::size_t>(n_[0]) + 63) / 64;
   bits_.assign(
       stride_ * static_cast<std::size_t>(n_[1]) * static_cast<std::size_t>(n_[2]), 0);
-}
-
-int UpdateRegion::brickOf(double coordinate) const
-{
-  const double f = std::floor(lattice_.resolutionFactor() * coordinate) +
-                   static_cast<double>(VoxelLattice::kKeyOffset);
-  const double key = f > 0.0
-                         ? std::min(f, static_cast<double>(VoxelLattice::kKeyLimit - 1))
-                         : 0.0; // also NaN
-  return static_cast<int>(key) >> kBrickShift;
 }
 
 void UpdateRegion::addBounds(const double lo[3], const double hi[3])
@@ -73,8 +83,8 @@ void UpdateRegion::addBounds(const double lo[3], const double hi[3])
   for (int a = 0; a < 3; ++a) {
     if (hi[a] < bounds_lo_[a] || lo[a] > bounds_hi_[a])
       return;
-    b_lo[a] = std::max(brickOf(lo[a]), lo_[a]) - lo_[a];
-    b_hi[a] = std::min(brickOf(hi[a]), lo_[a] + n_[a] - 1) - lo_[a];
+    b_lo[a] = std::max(brickOf(lattice_, lo[a]), lo_[a]) - lo_[a];
+    b_hi[a] = std::min(brickOf(lattice_, hi[a]), lo_[a] + n_[a] - 1) - lo_[a];
   }
   for (int z = b_lo[2]; z <= b_hi[2]; ++z)
     for (int y = b_lo[1]; y <= b_hi[1]; ++y) {

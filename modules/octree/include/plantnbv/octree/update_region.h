@@ -38,6 +38,10 @@ public:
   /// or the bounds would need more than 2^30 bricks.
   UpdateRegion(double resolution_m, const Box& bounds_W);
 
+  /// \brief The bricks a region over `bounds_W` at `resolution_m` (> 0) holds (its
+  /// memory: one bit each).
+  static std::size_t bricksOver(double resolution_m, const Box& bounds_W);
+
   /// \brief Adds every brick that overlaps `box_W` grown by `margin_m` (>= 0) on each
   /// side. \throws InvalidArgumentError if the margin is negative or not finite.
   void addBox(const Box& box_W, double margin_m = 0.0);
@@ -66,22 +70,14 @@ public:
   }
   /// \brief The voxel edge (metres) of the lattice the region is made for.
   double resolution() const { return lattice_.resolution(); }
-  /// \brief The bricks of the bounds that are in the region.
+  /// \brief The bricks of the bounds that are in the region (at most bricksOver).
   std::size_t brickCount() const;
-  /// \brief The bricks of the bounds.
-  std::size_t boundsBrickCount() const
-  {
-    return static_cast<std::size_t>(n_[0]) * static_cast<std::size_t>(n_[1]) *
-           static_cast<std::size_t>(n_[2]);
-  }
 
 private:
   /// Adds the bricks that overlap [lo, hi] (metres), clipped to the bounds.
   void addBounds(const double lo[3], const double hi[3]);
   void addTriangle(const Eigen::Vector3d& a, const Eigen::Vector3d& b,
                    const Eigen::Vector3d& c, double margin_m, int depth);
-  /// The brick holding `coordinate` along an axis, clamped to the octree.
-  int brickOf(double coordinate) const;
 
   VoxelLattice lattice_;
   int lo_[3] = {0, 0, 0};  ///< brick coordinates of the first brick of the bounds
