@@ -291,6 +291,12 @@ double nextBrickEntry(const MarchRay& ray, const VoxelLattice& lattice, int shif
   }
 }
 
+/// \brief The shortest gap (voxels along the ray) traverseRayInRegion jumps over once the
+/// march has found where it ends: the bulk additions of advanceBelow cost about as much
+/// as walking a dozen voxels, so shorter gaps are walked (16 measured best of 8, 16, 32
+/// and 64; docs/performance.md).
+constexpr double kMinJumpVoxels = 16.0;
+
 /// \brief Takes at once every DDA step that enters a voxel before `target`: OctoMap's
 /// steps are the merge of the three axes' border crossings ordered by t, so those are,
 /// per axis, the additions while t_max < target (advanceWhileBelow), and the state is
@@ -397,10 +403,10 @@ void traverseRayInRegion(const float origin[3], const float end[3],
 
   // The region's jumps (none over the whole lattice). They stop `margin` short of the
   // next brick of the region: far more than the rounding of its distance (~1e-13 m), far
-  // less than a voxel. A jump costs about as much as walking a few dozen voxels: shorter
-  // gaps (min_jump) are walked, with no brick checks before walk_until.
+  // less than a voxel. Gaps shorter than kMinJumpVoxels are walked, with no brick
+  // checks before walk_until.
   const double margin = 1e-4 * lattice.resolution();
-  const double min_jump = 64.0 * lattice.resolution();
+  const double min_jump = kMinJumpVoxels * lattice.resolution();
   double walk_until = 0.0;
   const int mask = (1 << shift) - 1;
   // key & mask right after a step into a new brick, per axis.
