@@ -1,6 +1,7 @@
 // The plantnbv tool as a user runs it: exit codes, one-line errors, and results.
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -660,8 +661,11 @@ TEST_F(CliTest, CampaignKilledRunResumesWithEveryTrialDoneOnce)
 {
   write("tiny.yaml", tinyCampaign());
   // Reference: an uninterrupted run on two workers.
+  const auto ref_start = std::chrono::steady_clock::now();
   const ToolRun ref =
       run("campaign run " + path("tiny.yaml") + " -o " + path("ref") + " -j 2");
+  const double ref_s =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - ref_start).count();
   ASSERT_EQ(ref.code, 0) << ref.err;
   EXPECT_NE(ref.out.find("12 of 12 trials done"), std::string::npos) << ref.out;
   // Not a terminal: one plain line per finished trial.
@@ -699,9 +703,11 @@ TEST_F(CliTest, CampaignKilledRunResumesWithEveryTrialDoneOnce)
       }
       ASSERT_TRUE(seen) << slurp(path("killed.out"));
     }
-    // Somewhere in the next 0.3-3 s: before, during or after a trial's writing.
-    const int delay_ms = std::uniform_int_distribution<int>(300, 3000)(rng);
-    std::system(("sleep " + std::to_string(delay_ms / 1000.0)).c_str());
+    // Somewhere in the next 10-40 % of the uninterrupted run's time (a fixed delay
+    // would outlast a whole run on a fast machine): before, during or after a trial's
+    // writing.
+    const double delay_s = std::uniform_real_distribution<double>(0.1, 0.4)(rng) * ref_s;
+    std::system(("sleep " + std::to_string(delay_s)).c_str());
     std::string pid = slurp(path("pid"));
     pid.erase(pid.find_last_not_of(" \n") + 1);
     ASSERT_FALSE(pid.empty());
