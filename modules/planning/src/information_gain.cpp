@@ -626,9 +626,8 @@ ViewGain computeFast(const Snapshot& snap, const Bricks<CodeT>& bricks,
   scratch.counts.assign(snap.values.size(), 0);
   std::uint32_t* const counts = scratch.counts.data();
   const double res = snap.lattice.resolution();
-  // Jumps stop this far (metres) short of the next brick that matters: far more than
-  // the traversal's rounding (~1e-13 m), far less than a voxel.
-  const double margin = 1e-4 * res;
+  // Jumps stop this far (metres) short of the next brick that matters.
+  const double margin = rt::kJumpMarginVoxels * res;
   // The table's bricks in metres.
   Eigen::Vector3d table_lo, table_hi;
   for (int a = 0; a < 3; ++a) {

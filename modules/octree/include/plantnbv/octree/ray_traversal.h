@@ -291,6 +291,12 @@ double nextBrickEntry(const MarchRay& ray, const VoxelLattice& lattice, int shif
   }
 }
 
+/// \brief How far (voxels along the ray) a jump stops short of the next brick that
+/// matters: far more than the rounding of nextBrickEntry's distances and of OctoMap's
+/// sums (~1e-13 m), far less than a voxel. The map's region walk and the planner's gain
+/// both jump with it.
+constexpr double kJumpMarginVoxels = 1e-4;
+
 /// \brief The shortest gap (voxels along the ray) traverseRayInRegion jumps over once the
 /// march has found where it ends: the bulk additions of advanceBelow cost about as much
 /// as walking a dozen voxels, so shorter gaps are walked (16 measured best of 8, 16, 32
@@ -314,25 +320,25 @@ namespace detail {
 /// What traverseRayInRegion's jump did.
 enum class Jump { stop, jumped, walk };
 
-/// traverseRayInRegion's jump, out of line (rare; the walk's state stays in registers).
-/// A gap shorter than `min_jump` (metres along the ray) is walked: its steps cost less
-/// than the jump. `walk_until` is then where the gap ends.
+/// traverseRayInRegion's jump, out of line (rare; the walk's state stays in registers):
+/// to kJumpMarginVoxels short of the next brick of the region, at most to `checks_from`.
+/// A gap shorter than kMinJumpVoxels is walked: `walk_until` is then where it ends.
 template <typename Region>
-[[gnu::noinline]] Jump
-jumpToNextBrick(const MarchRay& march, const VoxelLattice& lattice, const Region& region,
-                double limit, double margin, double min_jump, double checks_from,
-                double t_entry, double t[3], int k[3], double& walk_until)
+[[gnu::noinline]] Jump jumpToNextBrick(const MarchRay& march, const VoxelLattice& lattice,
+                                       const Region& region, double length,
+                                       double checks_from, double t_entry, double t[3],
+                                       int k[3], double& walk_until)
 {
   constexpr int shift = Region::kBrickShift;
+  const double margin = kJumpMarginVoxels * lattice.resolution();
   int b[3] = {k[0] >> shift, k[1] >> shift, k[2] >> shift};
-  const double entry =
-      nextBrickEntry(march, lattice, shift, b, limit, [&region](int x, int y, int z) {
-        return region.containsBrick(x, y, z);
-      });
+  const double entry = nextBrickEntry(
+      march, lattice, shift, b, length + margin,
+      [&region](int x, int y, int z) { return region.containsBrick(x, y, z); });
   if (entry == std::numeric_limits<double>::infinity())
     return Jump::stop;
   const double target = std::min(entry - margin, checks_from);
-  if (target - t_entry < min_jump) {
+  if (target - t_entry < kMinJumpVoxels * lattice.resolution()) {
     walk_until = entry;
     return Jump::walk;
   }
@@ -344,16 +350,15 @@ jumpToNextBrick(const MarchRay& march, const VoxelLattice& lattice, const Region
 /// told where the ray resumes.
 template <typename Region, typename Visitor>
 inline Jump jumpInRegion(const float origin[3], const RaySetup& s,
-                         const VoxelLattice& lattice, const Region& region, double margin,
-                         double min_jump, double checks_from, double t_entry, double& tx,
-                         double& ty, double& tz, int& kx, int& ky, int& kz,
-                         double& walk_until, Visitor& visitor)
+                         const VoxelLattice& lattice, const Region& region,
+                         double checks_from, double t_entry, double& tx, double& ty,
+                         double& tz, int& kx, int& ky, int& kz, double& walk_until,
+                         Visitor& visitor)
 {
   double t[3] = {tx, ty, tz};
   int k[3] = {kx, ky, kz};
-  const Jump j =
-      jumpToNextBrick(marchRay(origin, s), lattice, region, s.length + margin, margin,
-                      min_jump, checks_from, t_entry, t, k, walk_until);
+  const Jump j = jumpToNextBrick(marchRay(origin, s), lattice, region, s.length,
+                                 checks_from, t_entry, t, k, walk_until);
   if (j == Jump::jumped) {
     tx = t[0], ty = t[1], tz = t[2];
     kx = k[0], ky = k[1], kz = k[2];
@@ -401,12 +406,8 @@ void traverseRayInRegion(const float origin[3], const float end[3],
   // left before it: it is not the end voxel, and OctoMap's length rule cannot stop there.
   const double checks_from = length - 2.0 * lattice.resolution();
 
-  // The region's jumps (none over the whole lattice). They stop `margin` short of the
-  // next brick of the region: far more than the rounding of its distance (~1e-13 m), far
-  // less than a voxel. Gaps shorter than kMinJumpVoxels are walked, with no brick
-  // checks before walk_until.
-  const double margin = 1e-4 * lattice.resolution();
-  const double min_jump = kMinJumpVoxels * lattice.resolution();
+  // The region's jumps (none over the whole lattice; detail::jumpToNextBrick). Within a
+  // gap being walked (shorter than kMinJumpVoxels) no brick is checked.
   double walk_until = 0.0;
   const int mask = (1 << shift) - 1;
   // key & mask right after a step into a new brick, per axis.
@@ -414,9 +415,8 @@ void traverseRayInRegion(const float origin[3], const float end[3],
             wrap_z = sz > 0 ? 0 : mask;
   if constexpr (kJumps)
     if (!region.containsBrick(kx >> shift, ky >> shift, kz >> shift) &&
-        detail::jumpInRegion(origin, s, lattice, region, margin, min_jump, checks_from,
-                             0.0, tx, ty, tz, kx, ky, kz, walk_until,
-                             visitor) == detail::Jump::stop)
+        detail::jumpInRegion(origin, s, lattice, region, checks_from, 0.0, tx, ty, tz, kx,
+                             ky, kz, walk_until, visitor) == detail::Jump::stop)
       return;
 
   for (;;) {
@@ -435,9 +435,9 @@ void traverseRayInRegion(const float origin[3], const float end[3],
                                          : (kz & mask) == wrap_z;
       if (new_brick && t_entry >= walk_until &&
           !region.containsBrick(kx >> shift, ky >> shift, kz >> shift)) {
-        const detail::Jump j = detail::jumpInRegion(
-            origin, s, lattice, region, margin, min_jump, checks_from, t_entry, tx, ty,
-            tz, kx, ky, kz, walk_until, visitor);
+        const detail::Jump j =
+            detail::jumpInRegion(origin, s, lattice, region, checks_from, t_entry, tx, ty,
+                                 tz, kx, ky, kz, walk_until, visitor);
         if (j == detail::Jump::stop)
           break;
         if (j == detail::Jump::jumped)
