@@ -122,7 +122,7 @@ TEST(RayTraversal, JumpingPerAxisGivesTheStepByStepState)
     for (int a = 0; a < 3; ++a)
       kj[a] += static_cast<int>(rt::advanceWhileBelow(tj[a], s.t_delta[a], target)) *
                s.step[a];
-    // advanceBelow: the same, by single additions where they are few.
+    // advanceBelow: the three axes at once, with the march's deltas and steps.
     double tb[3] = {s.t_max[0], s.t_max[1], s.t_max[2]};
     int kb[3] = {ko[0], ko[1], ko[2]};
     rt::advanceBelow(rt::marchRay(o, s), target, tb, kb);
