@@ -16,6 +16,7 @@
 #include <plantnbv/common/stopwatch.h>
 #include <plantnbv/octree/occupancy_map.h>
 #include <plantnbv/octree/ray_traversal.h>
+#include <plantnbv/octree/region_horizon.h>
 
 // This file must round like OctoMap: no fused multiply-add contraction (CMakeLists.txt
 // compiles it with -ffp-contract=off), no fast-math.
@@ -364,6 +365,7 @@ struct OccupancyMapScratch {
   };
 
   std::vector<Ray> rays;
+  RegionHorizon horizon; ///< with an update region: where the frame's rays may enter it
   std::vector<std::uint64_t> free_words, occupied_words; ///< one block, while walked
   std::vector<std::unique_ptr<Block>> blocks;            ///< all blocks ever made
   std::vector<Block*> spare;                             ///< zeroed blocks not in use
@@ -556,7 +558,8 @@ template <bool kShared>
   RayBitsetWriter<kShared> writer(scratch, overflow);
   if (region)
     ray_traversal::traverseRayInRegion(origin, ray.end, key_origin, ray.key_end, lattice,
-                                       *region, writer);
+                                       *region, writer,
+                                       scratch.horizon.clearDistance(ray.end));
   else
     traverseRay(origin, ray.end, key_origin, ray.key_end, lattice, writer);
   if (ray.hit)
@@ -749,6 +752,24 @@ void OccupancyMap::insertImpl(const pcl::PointCloud<PointT>& points_W,
   }
   scratch.prepareTable(key_lo, key_hi);
   scratch.used.clear();
+  if (region) {
+    // Where the rays may first enter the region, around their mean direction (from at
+    // most about 4096 of them, in order: the same for any thread count).
+    Eigen::Vector3d axis = Eigen::Vector3d::Zero();
+    const std::int64_t stride = std::max<std::int64_t>(1, n / 4096);
+    for (std::int64_t i = 0; i < n; i += stride)
+      if (rays[i].valid) {
+        const Eigen::Vector3d d(double(rays[i].end[0]) - origin[0],
+                                double(rays[i].end[1]) - origin[1],
+                                double(rays[i].end[2]) - origin[2]);
+        const double norm = d.norm();
+        if (norm > 0.0)
+          axis += d / norm;
+      }
+    // No ray is longer than max_range (up to its float rounding).
+    scratch.horizon.compute(*region, origin, axis,
+                            max_range + 2.0 * lattice.resolution());
+  }
   scratch.overflow.resize(static_cast<std::size_t>(threads));
 #pragma omp parallel num_threads(threads)
   {

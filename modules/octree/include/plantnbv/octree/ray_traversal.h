@@ -192,7 +192,7 @@ template <typename Region, typename Visitor>
 void traverseRayInRegion(const float origin[3], const float end[3],
                          const int key_origin[3], const int key_end[3],
                          const VoxelLattice& lattice, const Region& region,
-                         Visitor& visitor);
+                         Visitor& visitor, double clear_until = 0.0);
 
 /// \brief The voxels of the segment origin -> end, end voxel excluded, in order: 3D DDA
 /// after J. Amanatides and A. Woo, "A Fast Voxel Traversal Algorithm for Ray Tracing",
@@ -378,11 +378,14 @@ inline Jump jumpInRegion(const float origin[3], const RaySetup& s,
 /// one step from the last one it got (either may return bool, as in traverseRay, which
 /// is this walk over WholeLattice), and `resume(kx, ky, kz)` after a jump: the ray's
 /// current voxel (not visited), from which the next `next` steps.
+/// \param[in] clear_until metres along the ray before which it enters no brick of the
+/// region (RegionHorizon::clearDistance; 0: unknown): the first jump starts there
+/// instead of marching the bricks from the origin.
 template <typename Region, typename Visitor>
 void traverseRayInRegion(const float origin[3], const float end[3],
                          const int key_origin[3], const int key_end[3],
                          const VoxelLattice& lattice, const Region& region,
-                         Visitor& visitor)
+                         Visitor& visitor, double clear_until)
 {
   constexpr bool kJumps = !std::is_same_v<Region, WholeLattice>;
   constexpr int shift = Region::kBrickShift;
@@ -414,10 +417,25 @@ void traverseRayInRegion(const float origin[3], const float end[3],
   const int wrap_x = sx > 0 ? 0 : mask, wrap_y = sy > 0 ? 0 : mask,
             wrap_z = sz > 0 ? 0 : mask;
   if constexpr (kJumps)
-    if (!region.containsBrick(kx >> shift, ky >> shift, kz >> shift) &&
-        detail::jumpInRegion(origin, s, lattice, region, checks_from, 0.0, tx, ty, tz, kx,
-                             ky, kz, walk_until, visitor) == detail::Jump::stop)
-      return;
+    if (!region.containsBrick(kx >> shift, ky >> shift, kz >> shift)) {
+      double t_from = 0.0; // where the first march starts
+      if (clear_until > 0.0) {
+        if (clear_until > length + kJumpMarginVoxels * lattice.resolution())
+          return; // the march would find no brick of the region before the end
+        t_from = std::max(std::min(clear_until, checks_from), 0.0);
+        if (t_from > 0.0) { // the state stepping one by one would reach there
+          double t[3] = {tx, ty, tz};
+          int k[3] = {kx, ky, kz};
+          advanceBelow(marchRay(origin, s), t_from, t, k);
+          tx = t[0], ty = t[1], tz = t[2];
+          kx = k[0], ky = k[1], kz = k[2];
+          visitor.resume(kx, ky, kz);
+        }
+      }
+      if (detail::jumpInRegion(origin, s, lattice, region, checks_from, t_from, tx, ty,
+                               tz, kx, ky, kz, walk_until, visitor) == detail::Jump::stop)
+        return;
+    }
 
   for (;;) {
     double t_entry;

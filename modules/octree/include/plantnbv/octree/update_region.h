@@ -72,6 +72,41 @@ public:
   double resolution() const { return lattice_.resolution(); }
   /// \brief The bricks of the bounds that are in the region (at most bricksOver).
   std::size_t brickCount() const;
+  /// \brief The box of the bounds' bricks (metres): every voxel outside it is in the
+  /// region.
+  void getBounds(double lo_m[3], double hi_m[3]) const
+  {
+    for (int a = 0; a < 3; ++a) {
+      lo_m[a] = bounds_lo_[a];
+      hi_m[a] = bounds_hi_[a];
+    }
+  }
+  /// \brief Calls `f(lo_m, hi_m)` (two `const double[3]`, metres) with the box of every
+  /// brick of the region within the bounds, in memory order.
+  template <typename F>
+  void forEachBrick(F&& f) const
+  {
+    const int edge = 1 << kBrickShift;
+    for (int z = 0; z < n_[2]; ++z)
+      for (int y = 0; y < n_[1]; ++y) {
+        const std::uint64_t* row =
+            &bits_[(static_cast<std::size_t>(z) * static_cast<std::size_t>(n_[1]) +
+                    static_cast<std::size_t>(y)) *
+                   stride_];
+        for (std::size_t w = 0; w < stride_; ++w)
+          for (std::uint64_t bits = row[w]; bits != 0; bits &= bits - 1) {
+            const int x = static_cast<int>(w * 64) + __builtin_ctzll(bits);
+            const int key[3] = {(lo_[0] + x) * edge, (lo_[1] + y) * edge,
+                                (lo_[2] + z) * edge};
+            double lo_m[3], hi_m[3];
+            for (int a = 0; a < 3; ++a) {
+              lo_m[a] = lattice_.keyToLowerFace(key[a]);
+              hi_m[a] = lattice_.keyToLowerFace(key[a] + edge);
+            }
+            f(static_cast<const double*>(lo_m), static_cast<const double*>(hi_m));
+          }
+      }
+  }
 
 private:
   /// Adds the bricks that overlap [lo, hi] (metres), clipped to the bounds.
