@@ -88,10 +88,7 @@ void UpdateRegion::addBounds(const double lo[3], const double hi[3])
   }
   for (int z = b_lo[2]; z <= b_hi[2]; ++z)
     for (int y = b_lo[1]; y <= b_hi[1]; ++y) {
-      std::uint64_t* row =
-          &bits_[(static_cast<std::size_t>(z) * static_cast<std::size_t>(n_[1]) +
-                  static_cast<std::size_t>(y)) *
-                 stride_];
+      std::uint64_t* row = &bits_[rowStart(y, z)];
       for (int x = b_lo[0]; x <= b_hi[0]; ++x)
         row[x >> 6] |= std::uint64_t{1} << (x & 63);
     }

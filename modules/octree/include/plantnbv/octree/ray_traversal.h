@@ -322,15 +322,24 @@ enum class Jump { stop, jumped, walk };
 
 /// traverseRayInRegion's jump, out of line (rare; the walk's state stays in registers):
 /// to kJumpMarginVoxels short of the next brick of the region, at most to `checks_from`.
-/// A gap shorter than kMinJumpVoxels is walked: `walk_until` is then where it ends.
+/// The march starts at `march_from` (at most `checks_from`; the state first advanced
+/// there when that lies past `t_entry`, the ray's place now): the ray enters no brick of
+/// the region before it. A gap shorter than kMinJumpVoxels is walked: `walk_until` is
+/// then where it ends.
 template <typename Region>
-[[gnu::noinline]] Jump jumpToNextBrick(const MarchRay& march, const VoxelLattice& lattice,
-                                       const Region& region, double length,
-                                       double checks_from, double t_entry, double t[3],
-                                       int k[3], double& walk_until)
+[[gnu::noinline]] Jump
+jumpToNextBrick(const MarchRay& march, const VoxelLattice& lattice, const Region& region,
+                double length, double checks_from, double t_entry, double march_from,
+                double t[3], int k[3], double& walk_until)
 {
   constexpr int shift = Region::kBrickShift;
   const double margin = kJumpMarginVoxels * lattice.resolution();
+  if (march_from > length + margin)
+    return Jump::stop; // the march would find no brick of the region before the end
+  if (std::min(march_from, checks_from) > t_entry) {
+    t_entry = std::min(march_from, checks_from);
+    advanceBelow(march, t_entry, t, k);
+  }
   int b[3] = {k[0] >> shift, k[1] >> shift, k[2] >> shift};
   const double entry = nextBrickEntry(
       march, lattice, shift, b, length + margin,
@@ -347,19 +356,20 @@ template <typename Region>
 }
 
 /// The jump as traverseRayInRegion's loop sees it: its state in and out, and the visitor
-/// told where the ray resumes.
+/// told where the ray resumes when it moved (a jump, or a march from past `t_entry`).
 template <typename Region, typename Visitor>
 inline Jump jumpInRegion(const float origin[3], const RaySetup& s,
                          const VoxelLattice& lattice, const Region& region,
-                         double checks_from, double t_entry, double& tx, double& ty,
-                         double& tz, int& kx, int& ky, int& kz, double& walk_until,
-                         Visitor& visitor)
+                         double checks_from, double t_entry, double march_from,
+                         double& tx, double& ty, double& tz, int& kx, int& ky, int& kz,
+                         double& walk_until, Visitor& visitor)
 {
   double t[3] = {tx, ty, tz};
   int k[3] = {kx, ky, kz};
   const Jump j = jumpToNextBrick(marchRay(origin, s), lattice, region, s.length,
-                                 checks_from, t_entry, t, k, walk_until);
-  if (j == Jump::jumped) {
+                                 checks_from, t_entry, march_from, t, k, walk_until);
+  if (j == Jump::jumped ||
+      (j == Jump::walk && std::min(march_from, checks_from) > t_entry)) {
     tx = t[0], ty = t[1], tz = t[2];
     kx = k[0], ky = k[1], kz = k[2];
     visitor.resume(kx, ky, kz); // the current voxel was not visited
@@ -417,25 +427,11 @@ void traverseRayInRegion(const float origin[3], const float end[3],
   const int wrap_x = sx > 0 ? 0 : mask, wrap_y = sy > 0 ? 0 : mask,
             wrap_z = sz > 0 ? 0 : mask;
   if constexpr (kJumps)
-    if (!region.containsBrick(kx >> shift, ky >> shift, kz >> shift)) {
-      double t_from = 0.0; // where the first march starts
-      if (clear_until > 0.0) {
-        if (clear_until > length + kJumpMarginVoxels * lattice.resolution())
-          return; // the march would find no brick of the region before the end
-        t_from = std::max(std::min(clear_until, checks_from), 0.0);
-        if (t_from > 0.0) { // the state stepping one by one would reach there
-          double t[3] = {tx, ty, tz};
-          int k[3] = {kx, ky, kz};
-          advanceBelow(marchRay(origin, s), t_from, t, k);
-          tx = t[0], ty = t[1], tz = t[2];
-          kx = k[0], ky = k[1], kz = k[2];
-          visitor.resume(kx, ky, kz);
-        }
-      }
-      if (detail::jumpInRegion(origin, s, lattice, region, checks_from, t_from, tx, ty,
-                               tz, kx, ky, kz, walk_until, visitor) == detail::Jump::stop)
-        return;
-    }
+    if (!region.containsBrick(kx >> shift, ky >> shift, kz >> shift) &&
+        detail::jumpInRegion(origin, s, lattice, region, checks_from, 0.0, clear_until,
+                             tx, ty, tz, kx, ky, kz, walk_until,
+                             visitor) == detail::Jump::stop)
+      return;
 
   for (;;) {
     double t_entry;
@@ -454,8 +450,8 @@ void traverseRayInRegion(const float origin[3], const float end[3],
       if (new_brick && t_entry >= walk_until &&
           !region.containsBrick(kx >> shift, ky >> shift, kz >> shift)) {
         const detail::Jump j =
-            detail::jumpInRegion(origin, s, lattice, region, checks_from, t_entry, tx, ty,
-                                 tz, kx, ky, kz, walk_until, visitor);
+            detail::jumpInRegion(origin, s, lattice, region, checks_from, t_entry,
+                                 t_entry, tx, ty, tz, kx, ky, kz, walk_until, visitor);
         if (j == detail::Jump::stop)
           break;
         if (j == detail::Jump::jumped)

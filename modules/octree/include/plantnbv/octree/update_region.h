@@ -59,9 +59,9 @@ public:
     if (x >= static_cast<unsigned>(n_[0]) || y >= static_cast<unsigned>(n_[1]) ||
         z >= static_cast<unsigned>(n_[2]))
       return true; // outside the bounds
-    const std::size_t row =
-        static_cast<std::size_t>(z) * static_cast<std::size_t>(n_[1]) + y;
-    return (bits_[row * stride_ + (x >> 6)] >> (x & 63)) & 1u;
+    return (bits_[rowStart(static_cast<int>(y), static_cast<int>(z)) + (x >> 6)] >>
+            (x & 63)) &
+           1u;
   }
   /// \brief Whether the voxel of key (kx, ky, kz) is in the region.
   bool containsKey(int kx, int ky, int kz) const
@@ -89,10 +89,7 @@ public:
     const int edge = 1 << kBrickShift;
     for (int z = 0; z < n_[2]; ++z)
       for (int y = 0; y < n_[1]; ++y) {
-        const std::uint64_t* row =
-            &bits_[(static_cast<std::size_t>(z) * static_cast<std::size_t>(n_[1]) +
-                    static_cast<std::size_t>(y)) *
-                   stride_];
+        const std::uint64_t* row = &bits_[rowStart(y, z)];
         for (std::size_t w = 0; w < stride_; ++w)
           for (std::uint64_t bits = row[w]; bits != 0; bits &= bits - 1) {
             const int x = static_cast<int>(w * 64) + __builtin_ctzll(bits);
@@ -109,6 +106,14 @@ public:
   }
 
 private:
+  /// Where the row of bricks (y, z) of the bounds (from their first brick) starts in
+  /// bits_.
+  std::size_t rowStart(int y, int z) const
+  {
+    return (static_cast<std::size_t>(z) * static_cast<std::size_t>(n_[1]) +
+            static_cast<std::size_t>(y)) *
+           stride_;
+  }
   /// Adds the bricks that overlap [lo, hi] (metres), clipped to the bounds.
   void addBounds(const double lo[3], const double hi[3]);
   void addTriangle(const Eigen::Vector3d& a, const Eigen::Vector3d& b,
