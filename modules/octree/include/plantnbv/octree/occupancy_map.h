@@ -168,8 +168,8 @@ public:
   /// jump to where a RegionHorizon says they may enter the region). For a caller that
   /// reads only the region's voxels and the occupied ones: when every hit falls in the
   /// region (InsertStats::hits_outside_region stays 0), a voxel outside it is never
-  /// occupied, as in the full map. Kept by `clear`. \throws InvalidArgumentError if the
-  /// region's resolution is not the map's.
+  /// occupied, as in the full map. Kept by `clear`.
+  /// \throws InvalidArgumentError if the region's resolution is not the map's.
   void setUpdateRegion(std::shared_ptr<const UpdateRegion> region);
   /// \brief The update region (null: none).
   const std::shared_ptr<const UpdateRegion>& getUpdateRegion() const { return region_; }

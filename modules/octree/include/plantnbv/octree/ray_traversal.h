@@ -317,7 +317,8 @@ inline void advanceBelow(const MarchRay& ray, double target, double t[3], int k[
 }
 
 namespace detail {
-/// What traverseRayInRegion's jump did.
+/// What traverseRayInRegion's jump did: no brick of the region before the end; the
+/// state moved on (the visitor resumes there); or nothing, the gap is walked.
 enum class Jump { stop, jumped, walk };
 
 /// traverseRayInRegion's jump, out of line (rare; the walk's state stays in registers):
@@ -325,7 +326,7 @@ enum class Jump { stop, jumped, walk };
 /// The march starts at `march_from` (at most `checks_from`; the state first advanced
 /// there when that lies past `t_entry`, the ray's place now): the ray enters no brick of
 /// the region before it. A gap shorter than kMinJumpVoxels is walked: `walk_until` is
-/// then where it ends.
+/// then where it ends, and the result `walk` unless the state was advanced (`jumped`).
 template <typename Region>
 [[gnu::noinline]] Jump
 jumpToNextBrick(const MarchRay& march, const VoxelLattice& lattice, const Region& region,
@@ -336,7 +337,8 @@ jumpToNextBrick(const MarchRay& march, const VoxelLattice& lattice, const Region
   const double margin = kJumpMarginVoxels * lattice.resolution();
   if (march_from > length + margin)
     return Jump::stop; // the march would find no brick of the region before the end
-  if (std::min(march_from, checks_from) > t_entry) {
+  const bool advanced = std::min(march_from, checks_from) > t_entry;
+  if (advanced) {
     t_entry = std::min(march_from, checks_from);
     advanceBelow(march, t_entry, t, k);
   }
@@ -349,14 +351,14 @@ jumpToNextBrick(const MarchRay& march, const VoxelLattice& lattice, const Region
   const double target = std::min(entry - margin, checks_from);
   if (target - t_entry < kMinJumpVoxels * lattice.resolution()) {
     walk_until = entry;
-    return Jump::walk;
+    return advanced ? Jump::jumped : Jump::walk;
   }
   advanceBelow(march, target, t, k);
   return Jump::jumped;
 }
 
 /// The jump as traverseRayInRegion's loop sees it: its state in and out, and the visitor
-/// told where the ray resumes when it moved (a jump, or a march from past `t_entry`).
+/// told where the ray resumes when it moved.
 template <typename Region, typename Visitor>
 inline Jump jumpInRegion(const float origin[3], const RaySetup& s,
                          const VoxelLattice& lattice, const Region& region,
@@ -368,8 +370,7 @@ inline Jump jumpInRegion(const float origin[3], const RaySetup& s,
   int k[3] = {kx, ky, kz};
   const Jump j = jumpToNextBrick(marchRay(origin, s), lattice, region, s.length,
                                  checks_from, t_entry, march_from, t, k, walk_until);
-  if (j == Jump::jumped ||
-      (j == Jump::walk && std::min(march_from, checks_from) > t_entry)) {
+  if (j == Jump::jumped) {
     tx = t[0], ty = t[1], tz = t[2];
     kx = k[0], ky = k[1], kz = k[2];
     visitor.resume(kx, ky, kz); // the current voxel was not visited
