@@ -2,6 +2,7 @@
 // region before the bound of its direction, and a region walk that starts its first
 // march there hands over the same voxels.
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <set>
@@ -47,13 +48,13 @@ constexpr double kMaxRange = 0.75;
 /// A scene's region: boxes, and the bricks around thin slanted triangles (leaves, a
 /// floor), within bounds of 2.4 m around the origin of the lattice (a trial's reach
 /// beyond the cameras).
-UpdateRegion randomRegion(plantnbv::Rng& rng)
+UpdateRegion randomRegion(plantnbv::Rng& rng, double res = kRes)
 {
-  UpdateRegion region(kRes, Box(Eigen::Vector3d::Zero(), Eigen::Vector3d::Constant(2.4)));
+  UpdateRegion region(res, Box(Eigen::Vector3d::Zero(), Eigen::Vector3d::Constant(2.4)));
   for (int i = 0; i < 6; ++i) {
     const Eigen::Vector3d centre = uniform3(rng, -0.5, 0.5);
     const Eigen::Vector3d size = uniform3(rng, 0.005, 0.1);
-    region.addBox(Box(centre, size), 2.0 * kRes);
+    region.addBox(Box(centre, size), 2.0 * res);
   }
   plantnbv::TriangleMesh mesh;
   for (int i = 0; i < 40; ++i) {
@@ -64,7 +65,7 @@ UpdateRegion randomRegion(plantnbv::Rng& rng)
     mesh.vertices.push_back(a + Eigen::Vector3f(0.02f, 0.06f, -0.03f));
     mesh.triangles.push_back({v, v + 1, v + 2});
   }
-  region.addMesh(mesh, kRes);
+  region.addMesh(mesh, res);
   return region;
 }
 
@@ -217,6 +218,72 @@ TEST(RegionHorizon, AWalkFromTheBoundHandsOverTheSameVoxelsOfTheRegion)
       ++i;
     }
   }
+}
+
+TEST(RegionHorizon, AMarchFromABrickCornerHandsOverTheSameVoxelsOfTheRegion)
+{
+  // The first march starts from the brick of the ray's point at clear_until, where the
+  // ray may cross two or three brick borders at once. Rays from brick corners along
+  // diagonals and axes (at 2^-8 m the corners are floats), each started at a brick
+  // border it crosses before the exact walk's first voxel in the region, or as late as
+  // the horizon's margin allows (a hundredth of a voxel before that voxel): the same
+  // voxels of the region, in order, each `next` one step from the voxel before.
+  constexpr double res = 1.0 / 256.0;
+  constexpr double brick = 8.0 * res;
+  const plantnbv::VoxelLattice lattice(res);
+  plantnbv::Rng rng(11);
+  int checked = 0, corners = 0;
+  for (int scene = 0; scene < 8; ++scene) {
+    const UpdateRegion region = randomRegion(rng, res);
+    float origin[3];
+    for (float& o : origin)
+      o = static_cast<float>(brick * std::floor(rng.uniform(-12.0, 12.0)));
+    int ko[3];
+    ASSERT_TRUE(lattice.coordToKey(origin, ko));
+    for (int i = 0; i < 2000; ++i) {
+      Eigen::Vector3d d;
+      for (int a = 0; a < 3; ++a)
+        d[a] = std::floor(rng.uniform(-1.0, 2.0)); // -1, 0 or 1
+      if (d.norm() == 0.0)
+        continue;
+      d = d.normalized() * rng.uniform(0.05, kMaxRange);
+      const float end[3] = {static_cast<float>(origin[0] + d.x()),
+                            static_cast<float>(origin[1] + d.y()),
+                            static_cast<float>(origin[2] + d.z())};
+      int ke[3];
+      ASSERT_TRUE(lattice.coordToKey(end, ke));
+      rt::RaySetup s;
+      if (!rt::setupRay(origin, end, ko, ke, lattice, s))
+        continue;
+      FirstEntry first{region};
+      rt::traverseRay(origin, end, ko, ke, lattice, first);
+      const double before = first.t >= 0.0 ? first.t - 0.01 * res : s.length;
+      // The brick borders the ray crosses along its longest axis (all of them on a
+      // diagonal) up to `before`, the last one mostly; or `before`.
+      const double longest =
+          std::max({std::fabs(s.direction[0]), std::fabs(s.direction[1]),
+                    std::fabs(s.direction[2])});
+      const double per_brick = brick / longest;
+      const int borders = static_cast<int>(std::floor(before / per_brick));
+      if (borders < 1)
+        continue;
+      const double u = rng.uniform();
+      const double clear_until =
+          u < 0.25   ? before
+          : u < 0.75 ? borders * per_brick
+                     : (1 + static_cast<int>(rng.uniform() * borders)) * per_brick;
+      RegionVoxels all(region), from_border(region);
+      rt::traverseRay(origin, end, ko, ke, lattice, all);
+      rt::traverseRayInRegion(origin, end, ko, ke, lattice, region, from_border,
+                              clear_until);
+      ASSERT_EQ(all.keys, from_border.keys) << "scene " << scene << ", ray " << i;
+      ASSERT_TRUE(from_border.one_step_each) << "scene " << scene << ", ray " << i;
+      ++checked;
+      corners += std::count(std::begin(s.step), std::end(s.step), 0) == 0;
+    }
+  }
+  EXPECT_GT(checked, 8000);
+  EXPECT_GT(corners, 3000);
 }
 
 TEST(RegionHorizon, TheRegionGivesEachOfItsBricksOnceWithItsBox)

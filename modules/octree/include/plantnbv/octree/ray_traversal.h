@@ -124,9 +124,10 @@ inline int ddaStep(double& tx, double& ty, double& tz, double dx, double dy, dou
 /// addition there adds the same rounded increment (delta rounded to a multiple of the
 /// ulp; except when delta's remainder is exactly half an ulp, where ties-to-even
 /// alternates: those additions are made one by one). Runs of additions that stay in a
-/// binade are therefore one multiplication; only the additions that leave a binade are
-/// made as such. O(binades crossed) instead of O(additions). A run of few additions
-/// (under 48) is made one by one: cheaper than the bulk steps' bookkeeping.
+/// binade are therefore one multiplication; only the additions that leave a binade, and
+/// the few (up to 8) left before a binade's top, are made as such. O(binades crossed)
+/// instead of O(additions). A run of few additions (under 48) is made one by one:
+/// cheaper than the bulk steps' bookkeeping.
 /// \pre delta > 0 and finite, and not below t's ulp (every addition changes t).
 /// \return the number of additions.
 inline long long advanceWhileBelow(double& t, double delta, double target)
@@ -146,9 +147,10 @@ inline long long advanceWhileBelow(double& t, double delta, double target)
     const std::uint64_t top_bits = static_cast<std::uint64_t>(biased + 1) << 52;
     double top;
     std::memcpy(&top, &top_bits, sizeof top);
-    // Few additions left in this binade: make them (cheaper than the bulk step).
+    const double limit = std::min(target, top);
+    // Few additions left in this binade: made one by one below (cheaper).
     if (t > 0.0 && biased >= 54 && biased <= 2000 && // normal, and so is its ulp
-        (std::min(target, top) - t) * inv_delta > 8.0) {
+        (limit - t) * inv_delta > 8.0) {
       const std::uint64_t ulp_bits = static_cast<std::uint64_t>(biased - 52) << 52;
       const std::uint64_t inv_ulp_bits = static_cast<std::uint64_t>(2098 - biased) << 52;
       double ulp, inv_ulp;
@@ -160,7 +162,6 @@ inline long long advanceWhileBelow(double& t, double delta, double target)
           q < 0x1p52 ? static_cast<double>(static_cast<long long>(q)) : q;
       if (q < 0x1p52 && q - whole != 0.5) {
         const double step = (q - whole < 0.5 ? whole : whole + 1.0) * ulp; // exact
-        const double limit = std::min(target, top);
         // The smallest m >= 1 with t + m step >= limit (sums below `top` are exact):
         // estimated, then corrected by exact tests.
         double m =
@@ -175,8 +176,12 @@ inline long long advanceWhileBelow(double& t, double delta, double target)
         }
       }
     }
-    t += delta; // one real addition: it may leave the binade or reach the target
-    ++n;
+    // Real additions up to the binade's top or the target: one after a bulk step (it
+    // may leave the binade or reach the target), else each addition left in the binade.
+    do {
+      t += delta;
+      ++n;
+    } while (t < limit);
   }
   return n;
 }
@@ -223,7 +228,8 @@ void traverseRay(const float origin[3], const float end[3], const int key_origin
 /// \brief A ray as the brick march below sees it.
 struct MarchRay {
   double o[3];       ///< origin (OctoMap's float origin)
-  double inv_dir[3]; ///< 1 / OctoMap's float unit direction (0 where it is 0)
+  double dir[3];     ///< OctoMap's float unit direction
+  double inv_dir[3]; ///< 1 / dir (0 where it is 0)
   double dt[3];      ///< the DDA's t_delta
   int step[3];       ///< the DDA's step
 };
@@ -234,6 +240,7 @@ inline MarchRay marchRay(const float origin[3], const RaySetup& s)
   MarchRay m;
   for (int a = 0; a < 3; ++a) {
     m.o[a] = origin[a];
+    m.dir[a] = s.direction[a];
     m.inv_dir[a] = s.direction[a] != 0.0f ? 1.0 / s.direction[a] : 0.0;
     m.dt[a] = s.t_delta[a];
     m.step[a] = s.step[a];
@@ -300,7 +307,8 @@ constexpr double kJumpMarginVoxels = 1e-4;
 /// \brief The shortest gap (voxels along the ray) traverseRayInRegion jumps over once the
 /// march has found where it ends: the bulk additions of advanceBelow cost about as much
 /// as walking a dozen voxels, so shorter gaps are walked (16 measured best of 8, 16, 32
-/// and 64; docs/performance.md).
+/// and 64; docs/performance.md). The first jump, from a RegionHorizon bound, advances
+/// the state anyway and takes every gap.
 constexpr double kMinJumpVoxels = 16.0;
 
 /// \brief Takes at once every DDA step that enters a voxel before `target`: OctoMap's
@@ -323,10 +331,10 @@ enum class Jump { stop, jumped, walk };
 
 /// traverseRayInRegion's jump, out of line (rare; the walk's state stays in registers):
 /// to kJumpMarginVoxels short of the next brick of the region, at most to `checks_from`.
-/// The march starts at `march_from` (at most `checks_from`; the state first advanced
-/// there when that lies past `t_entry`, the ray's place now): the ray enters no brick of
-/// the region before it. A gap shorter than kMinJumpVoxels is walked: `walk_until` is
-/// then where it ends, and the result `walk` unless the state was advanced (`jumped`).
+/// The march starts at `march_from` (at most `checks_from`) when that lies past
+/// `t_entry`, the ray's place now: the ray enters no brick of the region before it (a
+/// RegionHorizon bound). Otherwise it starts at the ray's place, and a gap shorter than
+/// kMinJumpVoxels is walked: `walk_until` is then where it ends, and the result `walk`.
 template <typename Region>
 [[gnu::noinline]] Jump
 jumpToNextBrick(const MarchRay& march, const VoxelLattice& lattice, const Region& region,
@@ -337,23 +345,41 @@ jumpToNextBrick(const MarchRay& march, const VoxelLattice& lattice, const Region
   const double margin = kJumpMarginVoxels * lattice.resolution();
   if (march_from > length + margin)
     return Jump::stop; // the march would find no brick of the region before the end
-  const bool advanced = std::min(march_from, checks_from) > t_entry;
-  if (advanced) {
-    t_entry = std::min(march_from, checks_from);
-    advanceBelow(march, t_entry, t, k);
-  }
+  const double start = std::min(march_from, checks_from);
+  const bool advanced = start > t_entry;
   int b[3] = {k[0] >> shift, k[1] >> shift, k[2] >> shift};
+  if (advanced) {
+    // The march starts from the brick of the ray's point at `start`, and the state is
+    // advanced once, to where the jump ends (advanceBelow to `start` and then on is the
+    // same additions): a ray that meets no brick of the region is never advanced. The
+    // point's rounding (~1e-16 m) can only give a brick the ray touches within that of
+    // `start`, and no brick of the region lies there (the bound holds for its bricks
+    // grown by 0.01 voxel), so the march passes every brick that matters after it.
+    int key[3];
+    bool in_tree = true;
+    for (int a = 0; a < 3; ++a)
+      in_tree = in_tree && lattice.coordToKey(march.o[a] + march.dir[a] * start, key[a]);
+    if (!in_tree) { // rounding at the tree's edge: advance the state there instead
+      advanceBelow(march, start, t, k);
+      std::copy(k, k + 3, key);
+    }
+    for (int a = 0; a < 3; ++a)
+      b[a] = key[a] >> shift;
+    t_entry = start;
+  }
   const double entry = nextBrickEntry(
       march, lattice, shift, b, length + margin,
       [&region](int x, int y, int z) { return region.containsBrick(x, y, z); });
   if (entry == std::numeric_limits<double>::infinity())
     return Jump::stop;
   const double target = std::min(entry - margin, checks_from);
-  if (target - t_entry < kMinJumpVoxels * lattice.resolution()) {
+  // From the march's start the state is advanced anyway, so to the gap's end whatever
+  // its length; from the ray's place a short gap is walked.
+  if (!advanced && target - t_entry < kMinJumpVoxels * lattice.resolution()) {
     walk_until = entry;
-    return advanced ? Jump::jumped : Jump::walk;
+    return Jump::walk;
   }
-  advanceBelow(march, target, t, k);
+  advanceBelow(march, std::max(target, t_entry), t, k);
   return Jump::jumped;
 }
 
@@ -389,9 +415,10 @@ inline Jump jumpInRegion(const float origin[3], const RaySetup& s,
 /// one step from the last one it got (either may return bool, as in traverseRay, which
 /// is this walk over WholeLattice), and `resume(kx, ky, kz)` after a jump: the ray's
 /// current voxel (not visited), from which the next `next` steps.
-/// \param[in] clear_until metres along the ray before which it enters no brick of the
-/// region (RegionHorizon::clearDistance; 0: unknown): the first jump starts there
-/// instead of marching the bricks from the origin.
+/// \param[in] clear_until metres along the ray before which it comes no nearer than far
+/// above rounding to a brick of the region (RegionHorizon::clearDistance, whose bricks
+/// are grown by 0.01 voxel; 0: unknown): the first jump marches the bricks from the
+/// ray's point there instead of from the origin.
 template <typename Region, typename Visitor>
 void traverseRayInRegion(const float origin[3], const float end[3],
                          const int key_origin[3], const int key_end[3],
