@@ -355,16 +355,15 @@ jumpToNextBrick(const MarchRay& march, const VoxelLattice& lattice, const Region
     // point's rounding (~1e-16 m) can only give a brick the ray touches within that of
     // `start`, and no brick of the region lies there (the bound holds for its bricks
     // grown by 0.01 voxel), so the march passes every brick that matters after it.
+    double point[3];
+    for (int a = 0; a < 3; ++a)
+      point[a] = march.o[a] + march.dir[a] * start;
     int key[3];
-    bool in_tree = true;
-    for (int a = 0; a < 3; ++a)
-      in_tree = in_tree && lattice.coordToKey(march.o[a] + march.dir[a] * start, key[a]);
-    if (!in_tree) { // rounding at the tree's edge: advance the state there instead
-      advanceBelow(march, start, t, k);
-      std::copy(k, k + 3, key);
-    }
-    for (int a = 0; a < 3; ++a)
-      b[a] = key[a] >> shift;
+    if (lattice.coordToKey(point[0], key[0]) && lattice.coordToKey(point[1], key[1]) &&
+        lattice.coordToKey(point[2], key[2]))
+      for (int a = 0; a < 3; ++a)
+        b[a] = key[a] >> shift;
+    // else (rounding at the tree's edge): the march starts from the ray's place, earlier
     t_entry = start;
   }
   const double entry = nextBrickEntry(
