@@ -562,6 +562,40 @@ TEST(OccupancyMap, EqualsOctoMapForDenseCameraFrames)
   }
 }
 
+TEST(OccupancyMap, OrganizedAndUnorganizedFramesGiveOctoMapsMap)
+{
+  // The rays are walked in tiles of the image (32 x 16 pixels; an unorganized cloud in
+  // runs of points): a frame whose size is no multiple of a tile either way, the same
+  // points as one row, and a cloud whose width x height is not its size must each give
+  // OctoMap's map, every ray walked once.
+  OccupancyMap::Config config;
+  config.resolution_m = 0.01;
+  config.max_range_m = 0.6;
+  const Eigen::Vector3d target(0.3, 0.1, 0.5);
+  const Eigen::Vector3d origin = target + Eigen::Vector3d(-0.45, 0.05, 0.03);
+  // Over 4,096 points per thread at two threads: both thread counts are used.
+  CloudXYZ organized = cameraFrame(origin, target, 101, 83, 60.0);
+  CloudXYZ row = organized;
+  row.width = static_cast<std::uint32_t>(row.size());
+  row.height = 1;
+  CloudXYZ inconsistent = organized;
+  inconsistent.push_back(point(0.3, 0.1, 0.5)); // PCL makes it one row: undo that
+  inconsistent.width = organized.width;
+  inconsistent.height = organized.height;
+  for (const CloudXYZ* cloud : {&organized, &row, &inconsistent})
+    for (int threads : {1, 2}) {
+      SCOPED_TRACE("width " + std::to_string(cloud->width) + ", height " +
+                   std::to_string(cloud->height) + ", " + std::to_string(cloud->size()) +
+                   " points, " + std::to_string(threads) + " threads");
+      OccupancyMap map(config);
+      map.setNumberOfThreads(threads);
+      auto reference = makeReference(config);
+      map.insert(*cloud, origin);
+      referenceInsert(*reference, *cloud, origin, config.max_range_m);
+      expectSameTree(map.getOcTree(), *reference);
+    }
+}
+
 TEST(OccupancyMap, EqualsOctoMapOnExactTies)
 {
   // From a voxel centre along axes and diagonals, with a resolution whose multiples are

@@ -106,6 +106,53 @@ void setBit(std::atomic<std::uint64_t>& word, std::uint64_t bit, bool shared)
     word.store(old | bit, std::memory_order_relaxed);
 }
 
+/// A frame's rays in tiles of its image, the order in which they are walked. Rays of
+/// neighbouring pixels cross the same voxels (a voxel of 3 mm at 0.4 m spans about
+/// 3 x 3 pixels of the paper's camera): walked one after another in both directions,
+/// they test bitset words still in the core's cache, and threads that take whole tiles
+/// work on different parts of the bitset. The bitset, and so the map, is the same in any
+/// order. An unorganized cloud (height 1, or a size that is not width x height) is cut
+/// into runs of as many points as a tile holds.
+class RayTiles {
+public:
+  static constexpr std::int64_t kTileWidth =
+      32; ///< pixels (measured best of 8 x 8 to 64 x 8)
+  static constexpr std::int64_t kTileHeight = 16; ///< pixels
+
+  RayTiles(std::int64_t n, std::uint32_t cloud_width, std::uint32_t cloud_height)
+  {
+    const bool organized =
+        cloud_height > 1 && static_cast<std::int64_t>(cloud_width) * cloud_height == n;
+    width_ = organized ? cloud_width : n;
+    height_ = organized ? cloud_height : 1;
+    tile_width_ = organized ? kTileWidth : kTileWidth * kTileHeight;
+    tile_height_ = organized ? kTileHeight : 1;
+    tiles_x_ = (width_ + tile_width_ - 1) / tile_width_;
+    count_ = tiles_x_ * ((height_ + tile_height_ - 1) / tile_height_);
+  }
+
+  /// How many tiles the frame has.
+  std::int64_t count() const { return count_; }
+
+  /// Calls `f(i)` for the index of each point of tile `tile`, row by row.
+  template <typename F>
+  void forEachRay(std::int64_t tile, F&& f) const
+  {
+    const std::int64_t row0 = tile / tiles_x_ * tile_height_;
+    const std::int64_t col0 = tile % tiles_x_ * tile_width_;
+    const std::int64_t row_end = std::min(height_, row0 + tile_height_);
+    const std::int64_t col_end = std::min(width_, col0 + tile_width_);
+    for (std::int64_t row = row0; row < row_end; ++row)
+      for (std::int64_t col = col0; col < col_end; ++col)
+        f(row * width_ + col);
+  }
+
+private:
+  std::int64_t width_ = 0, height_ = 0;
+  std::int64_t tile_width_ = 1, tile_height_ = 1;
+  std::int64_t tiles_x_ = 0, count_ = 0;
+};
+
 /// One frame's ray: where it ends and whether the end is a hit.
 struct Ray {
   float end[3];
@@ -771,22 +818,26 @@ void OccupancyMap::insertImpl(const pcl::PointCloud<PointT>& points_W,
                             max_range + 2.0 * lattice.resolution());
   }
   scratch.overflow.resize(static_cast<std::size_t>(threads));
+  const RayTiles tiles(n, points_W.width, points_W.height);
 #pragma omp parallel num_threads(threads)
   {
     std::vector<std::uint64_t>& overflow =
         scratch.overflow[static_cast<std::size_t>(omp_get_thread_num())];
     overflow.clear();
     const bool shared = threads > 1;
-#pragma omp for schedule(dynamic, 4096)
-    for (std::int64_t i = 0; i < n; ++i) {
-      const Ray& ray = rays[i];
-      if (!ray.valid)
-        continue;
-      if (shared)
-        markRay<true>(origin, key_origin, ray, lattice, region, scratch, overflow);
-      else
-        markRay<false>(origin, key_origin, ray, lattice, region, scratch, overflow);
-    }
+    // Eight tiles at a time (a strip of 256 x 16 pixels of the paper's camera): one tile
+    // at a time, the threads walked neighbouring tiles at once and were 10-15 % slower.
+#pragma omp for schedule(dynamic, 8)
+    for (std::int64_t tile = 0; tile < tiles.count(); ++tile)
+      tiles.forEachRay(tile, [&](std::int64_t i) {
+        const Ray& ray = rays[i];
+        if (!ray.valid)
+          return;
+        if (shared)
+          markRay<true>(origin, key_origin, ray, lattice, region, scratch, overflow);
+        else
+          markRay<false>(origin, key_origin, ray, lattice, region, scratch, overflow);
+      });
   }
   stats.traverse_ms = traverse_start.ms();
 

@@ -46,7 +46,8 @@ enum class VoxelState : std::uint8_t {
 /// plant frames). It is faster (figures: docs/performance.md, "Occupancy map") because:
 /// - the ray voxels come from a copy of OctoMap's traversal (Amanatides & Woo, the same
 ///   float / double operations, hence the same voxels), on several threads, into a
-///   bitset of 64^3-voxel blocks instead of two hash sets;
+///   bitset of 64^3-voxel blocks instead of two hash sets; an organized cloud's rays in
+///   tiles of its image, whose neighbouring rays cross the same voxels;
 /// - the tree is updated in one walk in octree order, each node visited once per frame
 ///   instead of one descent per voxel, and an octree node whose voxels all get the same
 ///   update is updated as one node (where OctoMap creates its voxels, then prunes them).
