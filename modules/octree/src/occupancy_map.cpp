@@ -115,9 +115,9 @@ void setBit(std::atomic<std::uint64_t>& word, std::uint64_t bit, bool shared)
 /// into runs of as many points as a tile holds.
 class RayTiles {
 public:
-  static constexpr std::int64_t kTileWidth =
-      32; ///< pixels (measured best of 8 x 8 to 64 x 8)
-  static constexpr std::int64_t kTileHeight = 16; ///< pixels
+  // Pixels; 32 x 16 and 16 x 16 measured best (docs/performance.md, "Rays in tiles").
+  static constexpr std::int64_t kTileWidth = 32;
+  static constexpr std::int64_t kTileHeight = 16;
 
   RayTiles(std::int64_t n, std::uint32_t cloud_width, std::uint32_t cloud_height)
   {
@@ -148,9 +148,9 @@ public:
   }
 
 private:
-  std::int64_t width_ = 0, height_ = 0;
-  std::int64_t tile_width_ = 1, tile_height_ = 1;
-  std::int64_t tiles_x_ = 0, count_ = 0;
+  std::int64_t width_, height_;           ///< the image (an unorganized cloud: one row)
+  std::int64_t tile_width_, tile_height_; ///< a tile (an unorganized cloud: one row)
+  std::int64_t tiles_x_, count_;          ///< tiles per row of tiles, and in all
 };
 
 /// One frame's ray: where it ends and whether the end is a hit.
@@ -826,7 +826,7 @@ void OccupancyMap::insertImpl(const pcl::PointCloud<PointT>& points_W,
     overflow.clear();
     const bool shared = threads > 1;
     // Eight tiles at a time (a strip of 256 x 16 pixels of the paper's camera): one tile
-    // at a time, the threads walked neighbouring tiles at once and were 10-15 % slower.
+    // at a time, the threads walked neighbouring tiles at once and were 7-9 % slower.
 #pragma omp for schedule(dynamic, 8)
     for (std::int64_t tile = 0; tile < tiles.count(); ++tile)
       tiles.forEachRay(tile, [&](std::int64_t i) {
