@@ -3,6 +3,7 @@
 #include <filesystem>
 #include <limits>
 #include <set>
+#include <sstream>
 #include <string>
 #include <tuple>
 #include <unistd.h>
@@ -176,6 +177,27 @@ CloudXYZ cameraFrame(const Eigen::Vector3d& origin, const Eigen::Vector3d& targe
   cloud.height = static_cast<std::uint32_t>(h);
   cloud.is_dense = false;
   return cloud;
+}
+
+/// OctoMap's binary encoding (readBinaryData) of a tree whose nodes on the path to `key`
+/// are inner down to depth `leaf_depth`; every other child is a pruned leaf, free,
+/// occupied or unknown in turn.
+std::string prunedPathTree(const octomap::OcTreeKey& key, int leaf_depth)
+{
+  constexpr unsigned kFree = 1, kOccupied = 2, kUnknown = 0, kInner = 3;
+  const unsigned kinds[3] = {kFree, kOccupied, kUnknown};
+  std::string data;
+  for (int depth = 0; depth < leaf_depth; ++depth) {
+    const unsigned on_path = octomap::computeChildIdx(key, 15 - depth);
+    unsigned bits = 0; // two bits per child, child 0 lowest
+    for (unsigned i = 0; i < 8; ++i) {
+      const bool inner = i == on_path && depth + 1 < leaf_depth;
+      bits |= (inner ? kInner : kinds[(i + static_cast<unsigned>(depth)) % 3]) << (2 * i);
+    }
+    data.push_back(static_cast<char>(bits & 0xffu));
+    data.push_back(static_cast<char>(bits >> 8));
+  }
+  return data;
 }
 
 /// A fresh path in the temporary directory, unique per test and process.
@@ -756,6 +778,53 @@ TEST(OccupancyMap, SameMapWithAnyThreadCount)
   expectSameTree(one.getOcTree(), two.getOcTree());
   expectSameTree(one.getOcTree(), three.getOcTree());
   EXPECT_THROW(one.setNumberOfThreads(-1), plantnbv::InvalidArgumentError);
+}
+
+TEST(OccupancyMap, EqualsOctoMapBelowLargePrunedNodes)
+{
+  // Pruned nodes above the bitset's 64^3-voxel blocks (depths 1 to 9: cubes of 128
+  // voxels and more), free at the lower clamping bound, occupied at the upper one, with
+  // unknown space beside them. The paths to the blocks are opened before the blocks are
+  // walked (on several threads), which expands such nodes whatever the updates below
+  // them; the tree must still be OctoMap's, node for node.
+  OccupancyMap::Config config;
+  config.resolution_m = 0.01;
+  config.max_range_m = 0.6;
+  const Eigen::Vector3d target(0.3, -0.2, 0.4); // near the root's split at x = 0
+  auto start = makeReference(config);
+  octomap::OcTreeKey key;
+  ASSERT_TRUE(start->coordToKeyChecked(octomap::point3d(static_cast<float>(target.x()),
+                                                        static_cast<float>(target.y()),
+                                                        static_cast<float>(target.z())),
+                                       key));
+  std::istringstream data(prunedPathTree(key, 9));
+  start->readBinaryData(data);
+  std::size_t free_leaves = 0, occupied_leaves = 0;
+  for (auto it = start->begin_leafs(); it != start->end_leafs(); ++it) {
+    ASSERT_LE(it.getDepth(), 9u);
+    (start->isNodeOccupied(*it) ? occupied_leaves : free_leaves) += 1;
+  }
+  ASSERT_GT(free_leaves, 10u);
+  ASSERT_GT(occupied_leaves, 10u);
+  const std::string path = tempPath("pruned.ot");
+  start->write(path);
+  for (const int threads : {1, 2}) {
+    auto map = OccupancyMap::read(path, config);
+    map->setNumberOfThreads(threads);
+    octomap::OcTree reference(map->getOcTree());
+    for (int frame = 0; frame < 6; ++frame) {
+      const double yaw = 0.9 * frame;
+      const Eigen::Vector3d origin =
+          target +
+          Eigen::Vector3d(0.45 * std::cos(yaw), 0.45 * std::sin(yaw), 0.1 * (frame % 2));
+      const CloudXYZ cloud = cameraFrame(origin, target, 160, 120, 150.0);
+      map->insert(cloud, origin);
+      referenceInsert(reference, cloud, origin, config.max_range_m);
+      SCOPED_TRACE(std::to_string(threads) + " threads, frame " + std::to_string(frame));
+      expectSameTree(map->getOcTree(), reference);
+    }
+  }
+  std::filesystem::remove(path);
 }
 
 TEST(OccupancyMap, LabelledCloudGivesTheSameMap)

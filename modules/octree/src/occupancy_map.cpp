@@ -2,7 +2,9 @@
 #include <atomic>
 #include <cmath>
 #include <cstdint>
+#include <exception>
 #include <limits>
+#include <memory>
 #include <mutex>
 #include <omp.h>
 #include <sstream>
@@ -161,38 +163,125 @@ struct Ray {
   bool hit = false;   ///< false: beyond max range, free space only
 };
 
+/// OctoMap counts a tree's nodes (and flags a change of its extent) in protected members
+/// that only its own node creation and deletion change, without synchronisation.
+/// Threads that update disjoint subtrees of one tree create and delete their nodes
+/// through a tree object of their own (a counter, holding no nodes), and the counts are
+/// added to the tree's afterwards.
+struct TreeNodeCount : octomap::OcTree {
+  static std::size_t& of(octomap::OcTree& tree)
+  {
+    return tree.*(&TreeNodeCount::tree_size);
+  }
+  static bool& changed(octomap::OcTree& tree)
+  {
+    return tree.*(&TreeNodeCount::size_changed);
+  }
+};
+
+/// OctoMap's non-lazy update of an inner node once its children are final: pruned if
+/// its 8 children are equal leaves, otherwise given the maximum of their log-odds.
+void finishNode(octomap::OcTree& nodes, octomap::OcTreeNode* node)
+{
+  if (!nodes.pruneNode(node))
+    node->updateOccupancyChildren();
+}
+
 /// Applies updates to the tree in increasing octree (Morton) order, each to a distinct
 /// aligned cube of voxels (a single voxel, or all voxels of an octree node: every voxel
 /// of the cube gets the same update), with OctoMap's updateNode semantics per voxel:
 /// early abort at a node at a clamping bound, expansion of pruned nodes, creation of new
 /// ones with log-odds 0 before the update, clamping. It keeps the path from the root to
-/// the last cube; a node is finished (pruned if its 8 children are equal leaves,
-/// otherwise given the maximum of its children's log-odds: OctoMap's non-lazy update)
-/// when the walk leaves it for good. Every node on the way is visited once per frame
-/// instead of once per voxel, and a cube whose voxels would all end up equal is updated
-/// as one node, as OctoMap's pruning would leave it.
+/// the last cube; a node is finished (finishNode) when the walk leaves it for good.
+/// Every node on the way is visited once per frame instead of once per voxel, and a cube
+/// whose voxels would all end up equal is updated as one node, as OctoMap's pruning
+/// would leave it.
+///
+/// The tree is updated in two levels (applyBitset): one updater opens the paths from the
+/// root to the blocks' nodes, listing the nodes it leaves instead of finishing them
+/// (`deferred`); then an updater per thread walks whole blocks, each below its block's
+/// node (startAt), creating nodes through the thread's counter; the listed nodes are
+/// finished last.
 class OrderedTreeUpdater {
 public:
-  explicit OrderedTreeUpdater(octomap::OcTree& tree)
-      : tree_(tree), clamp_min_(tree.getClampingThresMinLog()),
+  /// `tree`: the tree updated (its clamping bounds and update rule, both read only);
+  /// `nodes`: the tree object that creates, expands and prunes nodes (`tree` itself, or
+  /// a thread's counter, see TreeNodeCount); `deferred`: where the nodes the walk leaves
+  /// are listed, children before parents, instead of finished (nullptr: finished).
+  OrderedTreeUpdater(const octomap::OcTree& tree, octomap::OcTree& nodes,
+                     std::vector<octomap::OcTreeNode*>* deferred = nullptr)
+      : tree_(tree), nodes_tree_(nodes), deferred_(deferred),
+        clamp_min_(tree.getClampingThresMinLog()),
         clamp_max_(tree.getClampingThresMaxLog())
   {
+  }
+
+  /// Works below `node`, the node at `depth` that holds the cubes applied until the next
+  /// call; `created`: it was made in this frame (its log-odds are a new node's 0).
+  void startAt(octomap::OcTreeNode* node, int depth, bool created)
+  {
+    nodes_[depth] = node;
+    created_[depth] = created;
+    base_ = depth;
+    top_ = -1;
   }
 
   /// Updates the cube of the node at `target_depth` (16: one voxel) holding `key`.
   void apply(const octomap::OcTreeKey& key, int target_depth, float log_odds_update)
   {
+    if (!descend(key, target_depth, &log_odds_update))
+      return;
+    octomap::OcTreeNode* node = nodes_[top_];
+    if (created_[top_])
+      tree_.updateNodeLogOdds(node, log_odds_update); // new: 0 + update, clamped
+    else if (!nodes_tree_.nodeHasChildren(node)) {
+      if (!unchanged(node->getLogOdds(), log_odds_update))
+        tree_.updateNodeLogOdds(node, log_odds_update);
+    } else {
+      updateSubtree(node, log_odds_update);
+    }
+  }
+
+  /// The node at `depth` holding `key`, made where missing, without an update; pruned
+  /// nodes on the way are expanded whatever the updates below them will be (finishing
+  /// prunes them again where nothing changed). `created`: it was made now. With the
+  /// tree still empty, `key` must be that of the frame's first updated voxel: OctoMap
+  /// makes the root with the path to a voxel.
+  octomap::OcTreeNode* open(const octomap::OcTreeKey& key, int depth, bool& created)
+  {
+    descend(key, depth, nullptr);
+    created = created_[top_];
+    return nodes_[top_];
+  }
+
+  /// Finishes (or lists) the open path up to the node of startAt, or the root.
+  void finish()
+  {
+    for (int d = top_ - 1; d >= base_; --d)
+      leave(nodes_[d]);
+    top_ = -1;
+  }
+
+private:
+  /// Moves the open path to the node at `target_depth` holding `key` (top_), making
+  /// missing nodes. A pruned node on the way is expanded, unless `update` is given and
+  /// leaves it unchanged (OctoMap's early abort, for every voxel of the cube): then the
+  /// path ends there and the result is false.
+  bool descend(const octomap::OcTreeKey& key, int target_depth, const float* update)
+  {
     int depth;
     if (top_ < 0) {
-      if (!tree_.getRoot()) {
-        // The root can only be made by the tree: a lazy update by 0 creates the root and
-        // the path to this key's voxel, a leaf at log-odds 0 (what a new node starts
-        // from), and changes nothing else; the real update follows below.
-        tree_.updateNode(key, 0.0f, /*lazy_eval=*/true);
+      if (base_ == 0) {
+        if (!nodes_tree_.getRoot()) {
+          // The root can only be made by the tree: a lazy update by 0 creates the root
+          // and the path to this key's voxel, a leaf at log-odds 0 (what a new node
+          // starts from), and changes nothing else; the real update follows.
+          nodes_tree_.updateNode(key, 0.0f, /*lazy_eval=*/true);
+        }
+        nodes_[0] = nodes_tree_.getRoot();
+        created_[0] = false;
       }
-      nodes_[0] = tree_.getRoot();
-      created_[0] = false;
-      depth = 0;
+      depth = base_;
     } else {
       // Cubes come in increasing octree order: the deepest node shared with the last
       // one is above the highest differing key bit.
@@ -202,55 +291,45 @@ public:
       const int level = 31 - __builtin_clz(diff); // cubes are distinct: diff != 0
       const int shared = kTreeDepth - 1 - level;
       for (int d = top_ - 1; d > shared; --d)
-        finishNode(nodes_[d]);
+        leave(nodes_[d]);
       depth = std::min(top_, shared);
     }
+    key_ = key;
 
     octomap::OcTreeNode* node = nodes_[depth];
     while (depth < target_depth) {
       const unsigned pos = octomap::computeChildIdx(key, kTreeDepth - 1 - depth);
-      if (!tree_.nodeChildExists(node, pos)) {
-        if (!tree_.nodeHasChildren(node) && !created_[depth]) {
-          // A pruned node: OctoMap's search finds it, so its early abort applies here,
-          // to every voxel of the cube.
-          if (unchanged(node->getLogOdds(), log_odds_update)) {
+      if (!nodes_tree_.nodeChildExists(node, pos)) {
+        if (!nodes_tree_.nodeHasChildren(node) && !created_[depth]) {
+          // A pruned node: OctoMap's search finds it, so its early abort applies here.
+          if (update && unchanged(node->getLogOdds(), *update)) {
             top_ = depth;
-            key_ = key;
-            return;
+            return false;
           }
-          tree_.expandNode(node);
+          nodes_tree_.expandNode(node);
           created_[depth + 1] = false;
         } else {
-          tree_.createNodeChild(node, pos);
+          nodes_tree_.createNodeChild(node, pos);
           created_[depth + 1] = true;
         }
       } else {
         created_[depth + 1] = false;
       }
-      node = tree_.getNodeChild(node, pos);
+      node = nodes_tree_.getNodeChild(node, pos);
       nodes_[++depth] = node;
     }
-    if (created_[depth])
-      tree_.updateNodeLogOdds(node, log_odds_update); // new: 0 + update, clamped
-    else if (!tree_.nodeHasChildren(node)) {
-      if (!unchanged(node->getLogOdds(), log_odds_update))
-        tree_.updateNodeLogOdds(node, log_odds_update);
-    } else {
-      updateSubtree(node, log_odds_update);
-    }
     top_ = depth;
-    key_ = key;
+    return true;
   }
 
-  /// Finishes the open path up to the root.
-  void finish()
+  void leave(octomap::OcTreeNode* node)
   {
-    for (int d = top_ - 1; d >= 0; --d)
-      finishNode(nodes_[d]);
-    top_ = -1;
+    if (deferred_)
+      deferred_->push_back(node);
+    else
+      finishNode(nodes_tree_, node);
   }
 
-private:
   /// OctoMap's early abort in updateNode: a node at a clamping bound that the update
   /// would push further is left as it is.
   bool unchanged(float log_odds, float update) const
@@ -259,38 +338,45 @@ private:
            (update <= 0 && log_odds <= clamp_min_);
   }
 
-  void finishNode(octomap::OcTreeNode* node)
-  {
-    if (!tree_.pruneNode(node))
-      node->updateOccupancyChildren();
-  }
-
   /// Every voxel under `node` (an inner node) gets the update: existing leaves (pruned
   /// or not) in place, unknown parts as new leaves as large as the missing child.
   void updateSubtree(octomap::OcTreeNode* node, float log_odds_update)
   {
     for (unsigned i = 0; i < 8; ++i) {
-      if (tree_.nodeChildExists(node, i)) {
-        octomap::OcTreeNode* child = tree_.getNodeChild(node, i);
-        if (tree_.nodeHasChildren(child))
+      if (nodes_tree_.nodeChildExists(node, i)) {
+        octomap::OcTreeNode* child = nodes_tree_.getNodeChild(node, i);
+        if (nodes_tree_.nodeHasChildren(child))
           updateSubtree(child, log_odds_update);
         else if (!unchanged(child->getLogOdds(), log_odds_update))
           tree_.updateNodeLogOdds(child, log_odds_update);
       } else {
-        tree_.updateNodeLogOdds(tree_.createNodeChild(node, i), log_odds_update);
+        tree_.updateNodeLogOdds(nodes_tree_.createNodeChild(node, i), log_odds_update);
       }
     }
-    finishNode(node);
+    finishNode(nodes_tree_, node);
   }
 
-  octomap::OcTree& tree_;
+  const octomap::OcTree& tree_;
+  octomap::OcTree& nodes_tree_;
+  std::vector<octomap::OcTreeNode*>* const deferred_;
   const float clamp_min_;
   const float clamp_max_;
   octomap::OcTreeNode* nodes_[kTreeDepth + 1] = {};
   bool created_[kTreeDepth + 1] = {};
   octomap::OcTreeKey key_;
+  int base_ = 0; ///< depth of the node the path starts from
   int top_ = -1; ///< depth of the last node of the open path; -1: none
 };
+
+/// The key of voxel `m` (its Morton index in the block) of the block whose first voxel
+/// has key `first`.
+octomap::OcTreeKey voxelKey(const octomap::OcTreeKey& first, std::uint32_t m)
+{
+  return octomap::OcTreeKey(
+      static_cast<octomap::key_type>(first[0] + compactBits(m)),
+      static_cast<octomap::key_type>(first[1] + compactBits(m >> 1)),
+      static_cast<octomap::key_type>(first[2] + compactBits(m >> 2)));
+}
 
 /// Feeds one block of the bitset to the updater in octree order, as the largest
 /// uniform cubes: an octree node whose voxels are all hit (or all missed and none hit)
@@ -302,13 +388,13 @@ public:
   {
   }
 
-  /// `free_bits` / `occupied_bits`: the block's words; `base`: key of its first voxel.
+  /// `free_bits` / `occupied_bits`: the block's words; `first`: key of its first voxel.
   void walk(const std::uint64_t* free_bits, const std::uint64_t* occupied_bits,
-            const int base[3])
+            const octomap::OcTreeKey& first)
   {
     free_ = free_bits;
     occupied_ = occupied_bits;
-    std::copy(base, base + 3, base_);
+    first_ = first;
     walkWords(0, kWordsPerBlock, kTreeDepth - kBlockShift);
   }
 
@@ -363,11 +449,7 @@ private:
   /// The cube whose first voxel has index m in the block.
   void cube(std::uint32_t m, int depth, float update)
   {
-    const octomap::OcTreeKey key(
-        static_cast<octomap::key_type>(base_[0] + static_cast<int>(compactBits(m))),
-        static_cast<octomap::key_type>(base_[1] + static_cast<int>(compactBits(m >> 1))),
-        static_cast<octomap::key_type>(base_[2] + static_cast<int>(compactBits(m >> 2))));
-    updater_.apply(key, depth, update);
+    updater_.apply(voxelKey(first_, m), depth, update);
     ++updates_;
   }
 
@@ -381,7 +463,7 @@ private:
   const float miss_;
   const std::uint64_t* free_ = nullptr;
   const std::uint64_t* occupied_ = nullptr;
-  int base_[3] = {0, 0, 0};
+  octomap::OcTreeKey first_;
 };
 
 std::string rangeMessage(const char* field, double value, const char* expected)
@@ -409,13 +491,29 @@ struct OccupancyMapScratch {
     int coords[3];        ///< block coordinates (key >> 6)
     std::size_t slot;     ///< index in the table
     Block* block;
+
+    /// The key of the block's first voxel.
+    octomap::OcTreeKey firstKey() const
+    {
+      return octomap::OcTreeKey(static_cast<octomap::key_type>(coords[0] << kBlockShift),
+                                static_cast<octomap::key_type>(coords[1] << kBlockShift),
+                                static_cast<octomap::key_type>(coords[2] << kBlockShift));
+    }
   };
 
   std::vector<Ray> rays;
   RegionHorizon horizon; ///< with an update region: where the frame's rays may enter it
-  std::vector<std::uint64_t> free_words, occupied_words; ///< one block, while walked
-  std::vector<std::unique_ptr<Block>> blocks;            ///< all blocks ever made
-  std::vector<Block*> spare;                             ///< zeroed blocks not in use
+  /// What a thread needs to update the tree from whole blocks (applyBitset).
+  struct BlockUpdateBuffers {
+    std::vector<std::uint64_t> free_words, occupied_words; ///< one block, while walked
+    std::unique_ptr<octomap::OcTree> counter;              ///< see TreeNodeCount
+  };
+  std::vector<BlockUpdateBuffers> update_buffers; ///< per thread
+  std::vector<octomap::OcTreeNode*> block_nodes;  ///< the used blocks' nodes, in order
+  std::vector<char> block_nodes_created;          ///< whether each was made this frame
+  std::vector<octomap::OcTreeNode*> deferred;     ///< nodes above the blocks, to finish
+  std::vector<std::unique_ptr<Block>> blocks;     ///< all blocks ever made
+  std::vector<Block*> spare;                      ///< zeroed blocks not in use
   std::vector<UsedBlock> used;
   std::unique_ptr<std::atomic<Block*>[]> table;
   std::size_t table_capacity = 0;
@@ -611,6 +709,131 @@ template <bool kShared>
     traverseRay(origin, ray.end, key_origin, ray.key_end, lattice, writer);
   if (ray.hit)
     writer.markOccupied(ray.key_end[0], ray.key_end[1], ray.key_end[2]);
+}
+
+/// The Morton index of the block's first marked voxel; false: none (a ray can reach a
+/// block after a jump and mark nothing in it).
+bool firstMarkedVoxel(const Block& block, std::uint32_t& m)
+{
+  for (int w = 0; w < kWordsPerBlock; ++w) {
+    const std::uint64_t bits = block.free_bits[w].load(std::memory_order_relaxed) |
+                               block.occupied_bits[w].load(std::memory_order_relaxed);
+    if (bits) {
+      m = (static_cast<std::uint32_t>(w) << 6) |
+          static_cast<std::uint32_t>(__builtin_ctzll(bits));
+      return true;
+    }
+  }
+  return false;
+}
+
+/// Step 3 of insert: the frame's bitset into the tree, and the used blocks (sorted in
+/// octree order) cleared for the next frame. A voxel both free and occupied is occupied
+/// only. The blocks are disjoint subtrees: the paths from the root to their nodes are
+/// opened on one thread, the blocks then walked on `threads` threads (one at a time:
+/// their work differs by orders of magnitude), and the nodes above them finished last,
+/// children before parents. The tree is the same for any thread count.
+void applyBitset(octomap::OcTree& tree, Scratch& scratch, int threads,
+                 OccupancyMap::InsertStats& stats)
+{
+  constexpr int kBlockDepth = kTreeDepth - kBlockShift;
+  const auto blocks = static_cast<std::int64_t>(scratch.used.size());
+  scratch.block_nodes.assign(scratch.used.size(), nullptr);
+  scratch.block_nodes_created.assign(scratch.used.size(), 0);
+  scratch.deferred.clear();
+  OrderedTreeUpdater opener(tree, tree, &scratch.deferred);
+  for (std::int64_t i = 0; i < blocks; ++i) {
+    const Scratch::UsedBlock& used = scratch.used[static_cast<std::size_t>(i)];
+    std::uint32_t first;
+    if (!firstMarkedVoxel(*used.block, first))
+      continue;
+    bool created;
+    scratch.block_nodes[static_cast<std::size_t>(i)] =
+        opener.open(voxelKey(used.firstKey(), first), kBlockDepth, created);
+    scratch.block_nodes_created[static_cast<std::size_t>(i)] = created;
+  }
+  opener.finish();
+
+  threads = static_cast<int>(
+      std::max<std::int64_t>(1, std::min<std::int64_t>(threads, blocks)));
+  if (scratch.update_buffers.size() < static_cast<std::size_t>(threads))
+    scratch.update_buffers.resize(static_cast<std::size_t>(threads));
+  for (Scratch::BlockUpdateBuffers& buffers : scratch.update_buffers)
+    if (!buffers.counter) {
+      buffers.free_words.resize(kWordsPerBlock);
+      buffers.occupied_words.resize(kWordsPerBlock);
+      buffers.counter = std::make_unique<octomap::OcTree>(tree.getResolution());
+    }
+  const float hit = tree.getProbHitLog();
+  const float miss = tree.getProbMissLog();
+  std::size_t occupied_voxels = 0, free_voxels = 0, tree_updates = 0, nodes_added = 0;
+  bool nodes_changed = false;
+  std::exception_ptr error;
+#pragma omp parallel num_threads(threads)                                                 \
+    reduction(+ : occupied_voxels, free_voxels, tree_updates)
+  {
+    Scratch::BlockUpdateBuffers& buffers =
+        scratch.update_buffers[static_cast<std::size_t>(omp_get_thread_num())];
+    std::uint64_t* const free_words = buffers.free_words.data();
+    std::uint64_t* const occupied_words = buffers.occupied_words.data();
+    octomap::OcTree& counter = *buffers.counter;
+    const std::size_t counted_before = counter.size();
+    TreeNodeCount::changed(counter) = false;
+    OrderedTreeUpdater updater(tree, counter);
+    BlockWalker walker(updater, hit, miss);
+#pragma omp for schedule(dynamic, 1)
+    for (std::int64_t i = 0; i < blocks; ++i) {
+      const auto b = static_cast<std::size_t>(i);
+      octomap::OcTreeNode* const node = scratch.block_nodes[b];
+      if (!node)
+        continue;
+      // The block's bits, copied out and cleared for the next frame.
+      const Scratch::UsedBlock& used = scratch.used[b];
+      Block& block = *used.block;
+      for (int w = 0; w < kWordsPerBlock; ++w) {
+        const std::uint64_t f = block.free_bits[w].load(std::memory_order_relaxed);
+        const std::uint64_t o = block.occupied_bits[w].load(std::memory_order_relaxed);
+        free_words[w] = f;
+        occupied_words[w] = o;
+        if (f | o) {
+          block.free_bits[w].store(0, std::memory_order_relaxed);
+          block.occupied_bits[w].store(0, std::memory_order_relaxed);
+          occupied_voxels += static_cast<std::size_t>(__builtin_popcountll(o));
+          free_voxels += static_cast<std::size_t>(__builtin_popcountll(f & ~o));
+        }
+      }
+      try {
+        updater.startAt(node, kBlockDepth, scratch.block_nodes_created[b] != 0);
+        walker.walk(free_words, occupied_words, used.firstKey());
+        updater.finish();
+      } catch (...) { // std::bad_alloc: the other blocks go on, the first error is thrown
+#pragma omp critical(plantnbv_occupancy_error)
+        if (!error)
+          error = std::current_exception();
+      }
+    }
+    tree_updates += walker.updates();
+#pragma omp critical(plantnbv_occupancy_counts)
+    {
+      nodes_added += counter.size() - counted_before; // modulo 2^64: nodes pruned count
+      nodes_changed = nodes_changed || TreeNodeCount::changed(counter);
+    }
+  }
+  TreeNodeCount::of(tree) += nodes_added;
+  if (nodes_changed)
+    TreeNodeCount::changed(tree) = true;
+  stats.occupied_voxels += occupied_voxels;
+  stats.free_voxels += free_voxels;
+  stats.tree_updates += tree_updates;
+  for (const Scratch::UsedBlock& used : scratch.used) {
+    scratch.table[used.slot].store(nullptr, std::memory_order_relaxed);
+    scratch.spare.push_back(used.block);
+  }
+  scratch.used.clear();
+  if (error)
+    std::rethrow_exception(error);
+  for (octomap::OcTreeNode* node : scratch.deferred)
+    finishNode(tree, node);
 }
 
 } // namespace
@@ -841,8 +1064,8 @@ void OccupancyMap::insertImpl(const pcl::PointCloud<PointT>& points_W,
   }
   stats.traverse_ms = traverse_start.ms();
 
-  // 3. One ordered walk over the tree: blocks in octree order, voxels in octree order
-  //    inside a block. A voxel both free and occupied is occupied only.
+  // 3. The bitset into the tree: blocks in octree order, voxels in octree order inside
+  //    a block, the blocks' subtrees in parallel (applyBitset).
   const Stopwatch update_start;
   // Should the tree throw (std::bad_alloc), the bitset is left half cleared: start the
   // next frame with new buffers.
@@ -859,38 +1082,7 @@ void OccupancyMap::insertImpl(const pcl::PointCloud<PointT>& points_W,
             [](const Scratch::UsedBlock& a, const Scratch::UsedBlock& b) {
               return a.morton < b.morton;
             });
-  const float hit = tree_->getProbHitLog();
-  const float miss = tree_->getProbMissLog();
-  OrderedTreeUpdater updater(*tree_);
-  BlockWalker walker(updater, hit, miss);
-  scratch.free_words.resize(kWordsPerBlock);
-  scratch.occupied_words.resize(kWordsPerBlock);
-  std::uint64_t* const free_words = scratch.free_words.data();
-  std::uint64_t* const occupied_words = scratch.occupied_words.data();
-  for (const Scratch::UsedBlock& used : scratch.used) {
-    // The block's bits, copied out and cleared for the next frame.
-    Block& block = *used.block;
-    for (int w = 0; w < kWordsPerBlock; ++w) {
-      const std::uint64_t f = block.free_bits[w].load(std::memory_order_relaxed);
-      const std::uint64_t o = block.occupied_bits[w].load(std::memory_order_relaxed);
-      free_words[w] = f;
-      occupied_words[w] = o;
-      if (f | o) {
-        block.free_bits[w].store(0, std::memory_order_relaxed);
-        block.occupied_bits[w].store(0, std::memory_order_relaxed);
-        stats.occupied_voxels += static_cast<std::size_t>(__builtin_popcountll(o));
-        stats.free_voxels += static_cast<std::size_t>(__builtin_popcountll(f & ~o));
-      }
-    }
-    const int base[3] = {used.coords[0] << kBlockShift, used.coords[1] << kBlockShift,
-                         used.coords[2] << kBlockShift};
-    walker.walk(free_words, occupied_words, base);
-    scratch.table[used.slot].store(nullptr, std::memory_order_relaxed);
-    scratch.spare.push_back(used.block);
-  }
-  updater.finish();
-  stats.tree_updates = walker.updates();
-  scratch.used.clear();
+  applyBitset(*tree_, scratch, threads, stats);
 
   // Keys outside the table (not expected, see keepOutside): free voxels
   // distinct from all above, applied one by one with OctoMap's own non-lazy update.
@@ -903,7 +1095,7 @@ void OccupancyMap::insertImpl(const pcl::PointCloud<PointT>& points_W,
     const octomap::OcTreeKey key(static_cast<octomap::key_type>(packed >> 32),
                                  static_cast<octomap::key_type>((packed >> 16) & 0xffffu),
                                  static_cast<octomap::key_type>(packed & 0xffffu));
-    tree_->updateNode(key, miss, /*lazy_eval=*/false);
+    tree_->updateNode(key, tree_->getProbMissLog(), /*lazy_eval=*/false);
   }
   stats.free_voxels += overflow.size();
   stats.tree_updates += overflow.size();

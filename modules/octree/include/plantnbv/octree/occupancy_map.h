@@ -50,7 +50,8 @@ enum class VoxelState : std::uint8_t {
 ///   tiles of its image, whose neighbouring rays cross the same voxels;
 /// - the tree is updated in one walk in octree order, each node visited once per frame
 ///   instead of one descent per voxel, and an octree node whose voxels all get the same
-///   update is updated as one node (where OctoMap creates its voxels, then prunes them).
+///   update is updated as one node (where OctoMap creates its voxels, then prunes them);
+///   the blocks' subtrees are updated on several threads.
 ///
 /// Memory: besides the tree, 64 KiB per 64^3-voxel block that a frame's rays touch
 /// (kept for the next frame) and 32 bytes per point of the largest frame.
@@ -114,7 +115,7 @@ public:
     std::size_t hits_outside_region = 0;
     double rays_ms = 0.0;     ///< ray ends, keys and bounds (parallel)
     double traverse_ms = 0.0; ///< ray traversal into the bitset (parallel)
-    double update_ms = 0.0;   ///< tree update, inner nodes and pruning (sequential)
+    double update_ms = 0.0;   ///< tree update, inner nodes and pruning (parallel)
     double total_ms = 0.0;    ///< the whole insert
   };
 
@@ -129,12 +130,13 @@ public:
   /// \brief The parameters the map was made with.
   const Config& getConfig() const { return config_; }
 
-  /// \brief Threads of `insert`'s ray traversal (the tree update is sequential); 0
-  /// (default) uses OpenMP's default (omp_get_max_threads(), OMP_NUM_THREADS). Frames of
-  /// fewer than 4096 points per thread use fewer threads. The map does not depend on it.
+  /// \brief Threads of `insert` (the ray traversal, and the tree update below the
+  /// 64^3-voxel blocks); 0 (default) uses OpenMP's default (omp_get_max_threads(),
+  /// OMP_NUM_THREADS). Frames of fewer than 4096 points per thread use fewer threads.
+  /// The map does not depend on it.
   /// \throws InvalidArgumentError if `threads` < 0.
   void setNumberOfThreads(int threads);
-  /// \brief The threads of insert's ray traversal; 0 = OpenMP's default.
+  /// \brief The threads of insert; 0 = OpenMP's default.
   int getNumberOfThreads() const { return threads_; }
 
   /// \brief Integrates one frame. Each finite point within max_range_m of the sensor is
