@@ -806,7 +806,9 @@ void applyBitset(octomap::OcTree& tree, Scratch& scratch, int threads,
         updater.startAt(node, kBlockDepth, scratch.block_nodes_created[b] != 0);
         walker.walk(free_words, occupied_words, used.firstKey());
         updater.finish();
-      } catch (...) { // std::bad_alloc: the other blocks go on, the first error is thrown
+      } catch (...) {
+        // std::bad_alloc: the other blocks go on and the nodes above them are finished;
+        // the first error is thrown then.
 #pragma omp critical(plantnbv_occupancy_error)
         if (!error)
           error = std::current_exception();
@@ -830,10 +832,10 @@ void applyBitset(octomap::OcTree& tree, Scratch& scratch, int threads,
     scratch.spare.push_back(used.block);
   }
   scratch.used.clear();
-  if (error)
-    std::rethrow_exception(error);
   for (octomap::OcTreeNode* node : scratch.deferred)
     finishNode(tree, node);
+  if (error)
+    std::rethrow_exception(error);
 }
 
 } // namespace

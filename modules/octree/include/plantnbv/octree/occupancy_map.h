@@ -54,7 +54,8 @@ enum class VoxelState : std::uint8_t {
 ///   the blocks' subtrees are updated on several threads.
 ///
 /// Memory: besides the tree, 64 KiB per 64^3-voxel block that a frame's rays touch
-/// (kept for the next frame) and 32 bytes per point of the largest frame.
+/// (kept for the next frame), 32 bytes per point of the largest frame and 64 KiB per
+/// thread.
 ///
 /// Thread safety: const methods may run concurrently with each other; `insert`, `clear`
 /// and the setters must not run concurrently with anything else on the same map. If
