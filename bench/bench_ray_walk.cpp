@@ -64,7 +64,6 @@ public:
   }
 
   void set(int kx, int ky, int kz) { set(index(kx, ky, kz)); }
-  void setAlways(std::uint64_t i) { words_[i >> 6] |= std::uint64_t{1} << (i & 63); }
   void clear() { std::fill(words_.begin(), words_.end(), 0); }
   const int* base() const { return base_; }
   bool operator==(const Bitset& other) const { return words_ == other.words_; }
@@ -225,7 +224,7 @@ struct Lanes {
     _mm256_store_si256(reinterpret_cast<__m256i*>(index),
                        _mm256_or_si256(_mm256_slli_epi64(cell, 6), inside));
     for (int m = marking; m; m &= m - 1)
-      bits.setAlways(index[__builtin_ctz(static_cast<unsigned>(m))]);
+      bits.set(index[__builtin_ctz(static_cast<unsigned>(m))]);
     return marking;
   }
 };

@@ -491,6 +491,10 @@ struct OccupancyMapScratch {
     int coords[3];        ///< block coordinates (key >> 6)
     std::size_t slot;     ///< index in the table
     Block* block;
+    /// Its node in the tree, once applyBitset opened the path to it (null: no voxel
+    /// marked), and whether that node was made in this frame.
+    octomap::OcTreeNode* node = nullptr;
+    bool node_created = false;
 
     /// The key of the block's first voxel.
     octomap::OcTreeKey firstKey() const
@@ -509,8 +513,6 @@ struct OccupancyMapScratch {
     std::unique_ptr<octomap::OcTree> counter;              ///< see TreeNodeCount
   };
   std::vector<BlockUpdateBuffers> update_buffers; ///< per thread
-  std::vector<octomap::OcTreeNode*> block_nodes;  ///< the used blocks' nodes, in order
-  std::vector<char> block_nodes_created;          ///< whether each was made this frame
   std::vector<octomap::OcTreeNode*> deferred;     ///< nodes above the blocks, to finish
   std::vector<std::unique_ptr<Block>> blocks;     ///< all blocks ever made
   std::vector<Block*> spare;                      ///< zeroed blocks not in use
@@ -565,7 +567,9 @@ struct OccupancyMapScratch {
                  static_cast<std::uint32_t>(b[2])),
          {b[0], b[1], b[2]},
          slot,
-         block});
+         block,
+         nullptr,
+         false});
     table[slot].store(block, std::memory_order_release);
     return block;
   }
@@ -738,19 +742,13 @@ void applyBitset(octomap::OcTree& tree, Scratch& scratch, int threads,
 {
   constexpr int kBlockDepth = kTreeDepth - kBlockShift;
   const auto blocks = static_cast<std::int64_t>(scratch.used.size());
-  scratch.block_nodes.assign(scratch.used.size(), nullptr);
-  scratch.block_nodes_created.assign(scratch.used.size(), 0);
   scratch.deferred.clear();
   OrderedTreeUpdater opener(tree, tree, &scratch.deferred);
-  for (std::int64_t i = 0; i < blocks; ++i) {
-    const Scratch::UsedBlock& used = scratch.used[static_cast<std::size_t>(i)];
+  for (Scratch::UsedBlock& used : scratch.used) {
     std::uint32_t first;
-    if (!firstMarkedVoxel(*used.block, first))
-      continue;
-    bool created;
-    scratch.block_nodes[static_cast<std::size_t>(i)] =
-        opener.open(voxelKey(used.firstKey(), first), kBlockDepth, created);
-    scratch.block_nodes_created[static_cast<std::size_t>(i)] = created;
+    if (firstMarkedVoxel(*used.block, first))
+      used.node =
+          opener.open(voxelKey(used.firstKey(), first), kBlockDepth, used.node_created);
   }
   opener.finish();
 
@@ -783,12 +781,10 @@ void applyBitset(octomap::OcTree& tree, Scratch& scratch, int threads,
     BlockWalker walker(updater, hit, miss);
 #pragma omp for schedule(dynamic, 1)
     for (std::int64_t i = 0; i < blocks; ++i) {
-      const auto b = static_cast<std::size_t>(i);
-      octomap::OcTreeNode* const node = scratch.block_nodes[b];
-      if (!node)
+      const Scratch::UsedBlock& used = scratch.used[static_cast<std::size_t>(i)];
+      if (!used.node)
         continue;
       // The block's bits, copied out and cleared for the next frame.
-      const Scratch::UsedBlock& used = scratch.used[b];
       Block& block = *used.block;
       for (int w = 0; w < kWordsPerBlock; ++w) {
         const std::uint64_t f = block.free_bits[w].load(std::memory_order_relaxed);
@@ -803,7 +799,7 @@ void applyBitset(octomap::OcTree& tree, Scratch& scratch, int threads,
         }
       }
       try {
-        updater.startAt(node, kBlockDepth, scratch.block_nodes_created[b] != 0);
+        updater.startAt(used.node, kBlockDepth, used.node_created);
         walker.walk(free_words, occupied_words, used.firstKey());
         updater.finish();
       } catch (...) {
