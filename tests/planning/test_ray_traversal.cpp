@@ -1,9 +1,11 @@
 // The shared ray traversal (plantnbv/octree/ray_traversal.h) that the fast gain relies
 // on: the same voxels as OctoMap's computeRayKeys, and exact jumps.
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -133,6 +135,54 @@ TEST(RayTraversal, JumpingPerAxisGivesTheStepByStepState)
       ASSERT_EQ(t[a], tb[a]) << "segment " << i;
     }
   }
+}
+
+TEST(RayTraversal, AdvanceBelowEqualsPerAxisAdditionsForRunsOfAnyLength)
+{
+  // advanceBelow takes short runs axis after axis, longer ones in rounds over the axes,
+  // the longest in bulk: the state is per-axis sequential additions whatever the runs'
+  // lengths (up to thousands, as on rays of a few metres), their mix over the axes, and
+  // axes the ray does not move along (t_max and t_delta at the double maximum, as
+  // setupRay leaves them).
+  plantnbv::Rng rng(17);
+  const double kStill = std::numeric_limits<double>::max();
+  int by_longest_run[4] = {0, 0, 0, 0}; // longest run < 16, < 64, < 256, more
+  for (int i = 0; i < 100000; ++i) {
+    rt::MarchRay ray{};
+    double t[3];
+    for (int a = 0; a < 3; ++a) {
+      ray.step[a] = rng.uniform() < 0.5 ? 1 : -1;
+      ray.dt[a] = 0.003 / (0.01 + rng.uniform());
+      t[a] = rng.uniform() * ray.dt[a];
+      if (i % 7 == a) { // an axis the ray does not move along
+        ray.step[a] = 0;
+        ray.dt[a] = t[a] = kStill;
+      }
+    }
+    const int along = (i / 7) % 3 == i % 7 ? ((i / 7) + 1) % 3 : (i / 7) % 3;
+    const double runs = std::pow(10.0, rng.uniform(0.0, 3.5)); // 1 to ~3000
+    const double target = t[along] + runs * ray.dt[along];
+    double expected_t[3];
+    int expected_k[3], k[3];
+    int longest = 0;
+    for (int a = 0; a < 3; ++a) {
+      expected_t[a] = t[a];
+      expected_k[a] = k[a] = 1000;
+      int n = 0;
+      for (; expected_t[a] < target; ++n)
+        expected_t[a] += ray.dt[a];
+      expected_k[a] += n * ray.step[a];
+      longest = std::max(longest, n);
+    }
+    ++by_longest_run[longest < 16 ? 0 : longest < 64 ? 1 : longest < 256 ? 2 : 3];
+    rt::advanceBelow(ray, target, t, k);
+    for (int a = 0; a < 3; ++a) {
+      ASSERT_EQ(expected_t[a], t[a]) << "case " << i << " axis " << a;
+      ASSERT_EQ(expected_k[a], k[a]) << "case " << i << " axis " << a;
+    }
+  }
+  for (int c : by_longest_run)
+    EXPECT_GT(c, 5000); // every length of run was tried
 }
 
 namespace {

@@ -248,6 +248,26 @@ inline MarchRay marchRay(const float origin[3], const RaySetup& s)
   return m;
 }
 
+namespace detail {
+/// nextBrickEntry's rare case, out of line: the ray crosses the borders of the axes in
+/// `tied` (a bit per axis, a's included) within kTie of each other at `t` from brick b;
+/// whether a brick of any order of those crossings matters.
+template <typename Matters>
+[[gnu::noinline]] bool tiedBrickMatters(const MarchRay& ray, const int b[3], int tied,
+                                        Matters& matters)
+{
+  for (int subset = 1; subset < 8; ++subset) {
+    if ((subset & tied) != subset)
+      continue;
+    if (matters(b[0] + ((subset & 1) ? ray.step[0] : 0),
+                b[1] + ((subset & 2) ? ray.step[1] : 0),
+                b[2] + ((subset & 4) ? ray.step[2] : 0)))
+      return true;
+  }
+  return false;
+}
+} // namespace detail
+
 /// \brief Walks the bricks (cubes of 2^shift voxels, aligned with the octree) along the
 /// ray from brick `b` (key >> shift per axis; updated), and returns where the ray enters
 /// the first one for which `matters(bx, by, bz)` holds, or infinity if it enters none
@@ -273,29 +293,53 @@ double nextBrickEntry(const MarchRay& ray, const VoxelLattice& lattice, int shif
     tc[a] = (lattice.keyToLowerFace(key) - ray.o[a]) * ray.inv_dir[a];
     tc_step[a] = (1 << shift) * lattice.resolution() * std::fabs(ray.inv_dir[a]);
   }
+  // The loop in scalars, which the compiler keeps in registers (an array indexed by the
+  // axis goes through memory on every step); the same operations in the same order.
+  double tx = tc[0], ty = tc[1], tz = tc[2];
+  int bx = b[0], by = b[1], bz = b[2];
+  double entry = std::numeric_limits<double>::infinity();
   for (;;) {
-    const int a = tc[0] < tc[1] ? (tc[0] < tc[2] ? 0 : 2) : (tc[1] < tc[2] ? 1 : 2);
-    if (tc[a] > limit)
-      return std::numeric_limits<double>::infinity();
-    int tied = 0; // the axes crossed (nearly) with a
-    for (int c = 0; c < 3; ++c)
-      if (tc[c] - tc[a] <= kTie)
-        tied |= 1 << c;
-    if (tied != 1 << a)
-      for (int subset = 1; subset < 8; ++subset) {
-        if ((subset & tied) != subset)
-          continue;
-        const int n[3] = {b[0] + ((subset & 1) ? ray.step[0] : 0),
-                          b[1] + ((subset & 2) ? ray.step[1] : 0),
-                          b[2] + ((subset & 4) ? ray.step[2] : 0)};
-        if (matters(n[0], n[1], n[2]))
-          return tc[a];
+    // The axis crossed first (ties: z before y before x, as the comparisons fall).
+    const int a = tx < ty ? (tx < tz ? 0 : 2) : (ty < tz ? 1 : 2);
+    const double t = a == 0 ? tx : (a == 1 ? ty : tz);
+    if (t > limit)
+      break;
+    // Another axis crossed (nearly) with it: rare, out of line.
+    if ((tx - t <= kTie) + (ty - t <= kTie) + (tz - t <= kTie) > 1) {
+      const int here[3] = {bx, by, bz};
+      const int tied = (tx - t <= kTie) | (ty - t <= kTie) << 1 | (tz - t <= kTie) << 2;
+      if (detail::tiedBrickMatters(ray, here, tied, matters)) {
+        entry = t;
+        break;
       }
-    b[a] += ray.step[a];
-    if (matters(b[0], b[1], b[2]))
-      return tc[a];
-    tc[a] += tc_step[a];
+    }
+    if (a == 0) {
+      bx += ray.step[0];
+      if (matters(bx, by, bz)) {
+        entry = t;
+        break;
+      }
+      tx += tc_step[0];
+    } else if (a == 1) {
+      by += ray.step[1];
+      if (matters(bx, by, bz)) {
+        entry = t;
+        break;
+      }
+      ty += tc_step[1];
+    } else {
+      bz += ray.step[2];
+      if (matters(bx, by, bz)) {
+        entry = t;
+        break;
+      }
+      tz += tc_step[2];
+    }
   }
+  b[0] = bx;
+  b[1] = by;
+  b[2] = bz;
+  return entry;
 }
 
 /// \brief How far (voxels along the ray) a jump stops short of the next brick that
@@ -318,10 +362,75 @@ constexpr double kMinJumpVoxels = 16.0;
 /// that must be visited (a margin far above the rounding of nextBrickEntry) and two
 /// voxels short of the segment's length (no jumped step is the end voxel or trips
 /// OctoMap's length rule).
+///
+/// How, by the runs' lengths (additions per axis; measured best on this project's
+/// trials and gains, docs/performance.md "Jumps"):
+/// - every run under kShortAdditions (the planner's jumps between bricks): one axis after
+///   another, one addition at a time;
+/// - longer runs (a frame's first jump, from the camera to the region): a run of
+///   kBulkAdditions or more in advanceWhileBelow's bulk steps, the others in rounds of
+///   one addition per axis for as long as every axis of the round is below the target,
+///   then without the axes that reached it. The axes' chains of dependent additions then
+///   overlap instead of following one another.
+/// Each axis makes its own additions in order while it is below the target, so the
+/// state is the same whichever way is taken.
 inline void advanceBelow(const MarchRay& ray, double target, double t[3], int k[3])
 {
+  constexpr double kShortAdditions = 64;
+  constexpr double kBulkAdditions = 256;
+  if (target - t[0] < kShortAdditions * ray.dt[0] &&
+      target - t[1] < kShortAdditions * ray.dt[1] &&
+      target - t[2] < kShortAdditions * ray.dt[2]) {
+    for (int a = 0; a < 3; ++a)
+      for (; t[a] < target; k[a] += ray.step[a])
+        t[a] += ray.dt[a];
+    return;
+  }
+  long long n[3] = {0, 0, 0};
+  int left[3], count = 0; // the axes below the target, in rounds
+  for (int a = 0; a < 3; ++a) {
+    if (target - t[a] >= kBulkAdditions * ray.dt[a])
+      n[a] = advanceWhileBelow(t[a], ray.dt[a], target);
+    else if (t[a] < target)
+      left[count++] = a;
+  }
+  const auto dropReached = [&] {
+    int kept = 0;
+    for (int i = 0; i < count; ++i)
+      if (t[left[i]] < target)
+        left[kept++] = left[i];
+    count = kept;
+  };
+  if (count == 3) {
+    double x = t[0], y = t[1], z = t[2];
+    long long rounds = 0;
+    do {
+      x += ray.dt[0];
+      y += ray.dt[1];
+      z += ray.dt[2];
+      ++rounds;
+    } while (x < target && y < target && z < target);
+    t[0] = x, t[1] = y, t[2] = z;
+    n[0] += rounds, n[1] += rounds, n[2] += rounds;
+    dropReached();
+  }
+  if (count == 2) {
+    const int a = left[0], b = left[1];
+    double u = t[a], v = t[b];
+    long long rounds = 0;
+    do {
+      u += ray.dt[a];
+      v += ray.dt[b];
+      ++rounds;
+    } while (u < target && v < target);
+    t[a] = u, t[b] = v;
+    n[a] += rounds, n[b] += rounds;
+    dropReached();
+  }
+  if (count == 1)
+    n[left[0]] += advanceWhileBelow(t[left[0]], ray.dt[left[0]], target);
   for (int a = 0; a < 3; ++a)
-    k[a] += static_cast<int>(advanceWhileBelow(t[a], ray.dt[a], target)) * ray.step[a];
+    k[a] += static_cast<int>(n[a]) * ray.step[a];
 }
 
 namespace detail {
