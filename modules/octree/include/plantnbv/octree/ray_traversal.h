@@ -364,7 +364,7 @@ constexpr double kMinJumpVoxels = 16.0;
 /// OctoMap's length rule).
 ///
 /// How, by the runs' lengths (additions per axis; measured best on this project's
-/// trials and gains, docs/performance.md "Jumps"):
+/// trials and gains, docs/performance.md "The jumps"):
 /// - every run under kShortAdditions (the planner's jumps between bricks): one axis after
 ///   another, one addition at a time;
 /// - longer runs (a frame's first jump, from the camera to the region): a run of
