@@ -16,6 +16,7 @@
 
 #include <plantnbv/common/error.h>
 #include <plantnbv/common/random.h>
+#include <plantnbv/common/voxel_lattice.h>
 #include <plantnbv/octree/occupancy_map.h>
 #include <plantnbv/octree/octree_conversion.h>
 #include <plantnbv/octree/update_region.h>
@@ -184,12 +185,12 @@ CloudXYZ cameraFrame(const Eigen::Vector3d& origin, const Eigen::Vector3d& targe
 /// occupied or unknown in turn.
 std::string prunedPathTree(const octomap::OcTreeKey& key, int leaf_depth)
 {
-  constexpr int kTreeDepth = 16; // OctoMap's
   constexpr unsigned kFree = 1, kOccupied = 2, kUnknown = 0, kInner = 3;
   const unsigned kinds[3] = {kFree, kOccupied, kUnknown};
   std::string data;
   for (int depth = 0; depth < leaf_depth; ++depth) {
-    const unsigned on_path = octomap::computeChildIdx(key, kTreeDepth - 1 - depth);
+    const unsigned on_path =
+        octomap::computeChildIdx(key, plantnbv::VoxelLattice::kTreeDepth - 1 - depth);
     unsigned bits = 0; // two bits per child, child 0 lowest
     for (unsigned i = 0; i < 8; ++i) {
       const bool inner = i == on_path && depth + 1 < leaf_depth;

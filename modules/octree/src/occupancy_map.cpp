@@ -567,9 +567,7 @@ struct OccupancyMapScratch {
                  static_cast<std::uint32_t>(b[2])),
          {b[0], b[1], b[2]},
          slot,
-         block,
-         nullptr,
-         false});
+         block});
     table[slot].store(block, std::memory_order_release);
     return block;
   }

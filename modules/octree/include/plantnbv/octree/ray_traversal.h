@@ -304,10 +304,10 @@ double nextBrickEntry(const MarchRay& ray, const VoxelLattice& lattice, int shif
     const double t = a == 0 ? tx : (a == 1 ? ty : tz);
     if (t > limit)
       break;
-    // Another axis crossed (nearly) with it: rare, out of line.
-    if ((tx - t <= kTie) + (ty - t <= kTie) + (tz - t <= kTie) > 1) {
+    // The axes crossed (nearly) with it, a's included; another one is rare: out of line.
+    const int tied = (tx - t <= kTie) | (ty - t <= kTie) << 1 | (tz - t <= kTie) << 2;
+    if (tied & (tied - 1)) {
       const int here[3] = {bx, by, bz};
-      const int tied = (tx - t <= kTie) | (ty - t <= kTie) << 1 | (tz - t <= kTie) << 2;
       if (detail::tiedBrickMatters(ray, here, tied, matters)) {
         entry = t;
         break;
