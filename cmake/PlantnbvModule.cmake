@@ -12,7 +12,10 @@ function(plantnbv_add_module name)
     $<BUILD_INTERFACE:${CMAKE_CURRENT_SOURCE_DIR}/include>
     $<INSTALL_INTERFACE:${CMAKE_INSTALL_INCLUDEDIR}>)
   target_compile_features(${target} PUBLIC cxx_std_17)
-  target_compile_options(${target} PRIVATE -Wall -Wextra)
+  # -fno-semantic-interposition: a library's calls to its own functions may be inlined
+  # or made directly (no one interposes them): 3-9 % off planning in bench_trial
+  # (docs/performance.md, "Setup and evaluation: shorter searches").
+  target_compile_options(${target} PRIVATE -Wall -Wextra -fno-semantic-interposition)
   target_link_libraries(${target} PUBLIC ${M_PUBLIC_DEPS} PRIVATE ${M_PRIVATE_DEPS})
   install(TARGETS ${target} EXPORT plantnbvTargets
           LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}

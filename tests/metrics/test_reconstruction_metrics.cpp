@@ -316,6 +316,71 @@ TEST(ReconstructionMetrics, NonFinitePointsAreIgnored)
         << i;
 }
 
+namespace {
+/// computeDistancesBelow's contract against computeDistances: a distance below the
+/// bound is the exact one, every other +infinity; NaN where the point is not finite.
+void expectExactBelow(const std::vector<double>& exact, const std::vector<double>& below,
+                      double bound, const std::string& what)
+{
+  std::vector<double> expected = exact;
+  for (double& d : expected)
+    if (!std::isnan(d) && !(d < bound))
+      d = kInf;
+  expectSameDistances(expected, below, what);
+}
+} // namespace
+
+TEST(ReconstructionMetrics, DistancesBelowABoundAreTheExactOnesAndInfinityBeyond)
+{
+  // R covers one side of T only: most of T's points are far from it, as a map's after
+  // its first views.
+  auto reference = randomCloud(30000, 6, noisySphere);
+  for (std::size_t i = 0; i < reference->size(); i += 499)
+    (*reference)[i].z = kNaN;
+  auto reconstruction = makeCloud();
+  const CloudPtr sphere = randomCloud(20000, 7, noisySphere);
+  for (const pcl::PointXYZ& p : *sphere)
+    if (p.x > 0.3f)
+      reconstruction->push_back(p);
+  for (int threads : {1, 2}) {
+    ReconstructionMetrics metrics;
+    metrics.setNumberOfThreads(threads);
+    metrics.setReference(reference);
+    metrics.setReconstruction(reconstruction);
+    std::vector<double> exact, below;
+    metrics.computeDistances(exact);
+    std::vector<double> finite_exact;
+    for (double d : exact)
+      if (std::isfinite(d))
+        finite_exact.push_back(d);
+    std::sort(finite_exact.begin(), finite_exact.end());
+    // Bounds between the distances, on one of them (that point must get infinity), and
+    // beyond them all.
+    for (double bound : {0.003, 0.05, finite_exact[finite_exact.size() / 2],
+                         finite_exact.back() * 2.0}) {
+      metrics.computeDistancesBelow(bound, below);
+      expectExactBelow(exact, below, bound,
+                       "bound " + std::to_string(bound) + ", " + std::to_string(threads) +
+                           " threads");
+    }
+  }
+  // On a lattice every distance ties with many others, and a bound equal to the
+  // spacing falls on them exactly.
+  ReconstructionMetrics metrics;
+  metrics.setReference(lattice());
+  metrics.setReconstruction(lattice(1.0f / 64.0f, 0.0f, 0.0f));
+  std::vector<double> exact, below;
+  metrics.computeDistances(exact);
+  for (double bound : {1.0 / 64.0, std::nextafter(1.0 / 64.0, 1.0), 0.001}) {
+    metrics.computeDistancesBelow(bound, below);
+    expectExactBelow(exact, below, bound, "lattice, bound " + std::to_string(bound));
+  }
+  EXPECT_THROW(metrics.computeDistancesBelow(0.0, below), InvalidArgumentError);
+  EXPECT_THROW(metrics.computeDistancesBelow(kNaN, below), InvalidArgumentError);
+  ReconstructionMetrics empty;
+  EXPECT_THROW(empty.computeDistancesBelow(0.003, below), InvalidArgumentError);
+}
+
 TEST(ReconstructionMetrics, ResultDoesNotDependOnThreadCount)
 {
   // 40k points: trees built in parallel chunks, 40 blocks of queries shared out

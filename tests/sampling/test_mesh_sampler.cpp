@@ -1,10 +1,13 @@
+#include <algorithm>
 #include <cmath>
+#include <vector>
 
 #include <gtest/gtest.h>
 #include <pcl/point_cloud.h>
 #include <pcl/point_types.h>
 
 #include <plantnbv/common/error.h>
+#include <plantnbv/common/random.h>
 #include <plantnbv/sampling/mesh_sampler.h>
 
 #include "synthetic_plant.h"
@@ -108,6 +111,82 @@ TEST(MeshSampler, SameSeedSameCloudOtherSeedOtherCloud)
   EXPECT_TRUE(a.is_dense);
   EXPECT_EQ(a.width, 5000u);
   EXPECT_EQ(a.height, 1u);
+}
+
+namespace {
+/// The points of MeshSampler::sample drawn as its documentation says, each triangle
+/// found by std::upper_bound over the whole table of cumulative areas.
+std::vector<Eigen::Vector3f> drawWithWholeTableSearch(const TriangleMesh& mesh,
+                                                      std::size_t n, std::uint64_t seed)
+{
+  std::vector<double> cumulative;
+  double total = 0.0;
+  for (std::size_t t = 0; t < mesh.size(); ++t)
+    cumulative.push_back(total += mesh.triangleArea(t));
+  const auto last_with_area =
+      std::lower_bound(cumulative.begin(), cumulative.end(), total);
+  plantnbv::Rng rng(seed);
+  std::vector<Eigen::Vector3f> points;
+  for (std::size_t i = 0; i < n; ++i) {
+    const double u = rng.uniform() * total;
+    const auto t = static_cast<std::size_t>(
+        std::min(std::upper_bound(cumulative.begin(), cumulative.end(), u),
+                 last_with_area) -
+        cumulative.begin());
+    const auto& tri = mesh.triangles[t];
+    const Eigen::Vector3d a = mesh.vertices[tri[0]].cast<double>();
+    const Eigen::Vector3d b = mesh.vertices[tri[1]].cast<double>();
+    const Eigen::Vector3d c = mesh.vertices[tri[2]].cast<double>();
+    const double s = std::sqrt(rng.uniform());
+    const double r = rng.uniform();
+    points.push_back(((1.0 - s) * a + s * (1.0 - r) * b + s * r * c).cast<float>());
+  }
+  return points;
+}
+
+/// Triangles of areas spread over 16 orders of magnitude, with runs of zero-area ones
+/// (the guide's slices then hold many triangles or none) and a run of equal areas (whose
+/// cumulative sums can fall on a slice's start exactly).
+TriangleMesh unevenTriangles()
+{
+  TriangleMesh m;
+  plantnbv::Rng rng(5);
+  for (int t = 0; t < 3000; ++t) {
+    const auto base = static_cast<std::uint32_t>(m.vertices.size());
+    const float z = static_cast<float>(t);
+    float leg = 0.5f;
+    if (t % 7 == 3 || (t >= 1000 && t < 1200))
+      leg = 0.0f;
+    else if (t < 2000)
+      leg = static_cast<float>(std::pow(10.0, rng.uniform(-8.0, 0.0)));
+    m.vertices.insert(m.vertices.end(), {{0, 0, z}, {leg, 0, z}, {0, 1, z}});
+    m.triangles.push_back({base, base + 1, base + 2});
+  }
+  return m;
+}
+} // namespace
+
+TEST(MeshSampler, TrianglesAreThoseOfASearchOverTheWholeAreaTable)
+{
+  const TriangleMesh meshes[] = {plantnbv::test::makeSyntheticPlant(), unevenTriangles(),
+                                 *threeTriangles()};
+  for (const TriangleMesh& mesh : meshes)
+    for (std::uint64_t seed : {0u, 9u}) {
+      const std::size_t n = 60000;
+      MeshSampler sampler;
+      sampler.setInputMesh(std::make_shared<TriangleMesh>(mesh));
+      sampler.setNumberOfPoints(n);
+      sampler.setSeed(seed);
+      pcl::PointCloud<pcl::PointXYZ> cloud;
+      sampler.sample(cloud);
+      const std::vector<Eigen::Vector3f> expected =
+          drawWithWholeTableSearch(mesh, n, seed);
+      ASSERT_EQ(cloud.size(), n);
+      std::size_t differ = 0;
+      for (std::size_t i = 0; i < n; ++i)
+        differ += cloud[i].getVector3fMap() != expected[i];
+      EXPECT_EQ(differ, 0u) << mesh.size() << " triangles, seed " << seed;
+    }
 }
 
 TEST(MeshSampler, RejectsBadInput)

@@ -335,8 +335,8 @@ void ReconstructionEvaluator::computeOrganRecall(const CloudXYZ& reconstruction,
   ReconstructionMetrics& metrics = *impl_->whole;
   metrics.setNumberOfThreads(threads_);
   metrics.setReconstruction(withoutBackground(reconstruction));
-  std::vector<double> to_mine;
-  metrics.computeDistances(to_mine);
+  std::vector<double> to_mine; // only whether each is below the resolution matters
+  metrics.computeDistancesBelow(resolution_m_, to_mine);
   const std::vector<PartLabel>& organs = evaluatedOrgans();
   std::vector<std::size_t> found(organs.size(), 0);
   recalls.assign(organs.size(), OrganRecall{});

@@ -109,7 +109,8 @@ void MortonTree::build(const MortonTreeInput& input, int threads)
                                            i * input.stride_bytes);
   };
   // Point j of the list: its cloud index and coordinates; false if not finite.
-  const auto finitePoint = [&](std::size_t j, std::size_t& i, float& x, float& y, float& z) {
+  const auto finitePoint = [&](std::size_t j, std::size_t& i, float& x, float& y,
+                               float& z) {
     i = cloudIndexAt(j);
     x = coordinate(input.x, i);
     y = coordinate(input.y, i);
@@ -525,8 +526,12 @@ PLANTNBV_HOT_INLINE double MortonTree::seededNearest(const double q[3], double b
 }
 
 void MortonTree::nearestOfEach(const MortonTree& queries, int threads,
-                               const BlockFn& block) const
+                               const BlockFn& block, double max_dist) const
 {
+  // Every squared distance whose root is below max_dist is below this bound (the double
+  // after max_dist^2 rounded): the search, which only looks for points strictly nearer
+  // than its best, starts from it.
+  const double bound = max_dist < kInf ? std::nextafter(max_dist * max_dist, kInf) : kInf;
   const std::size_t n = queries.size();
   const auto blocks = static_cast<long long>((n + kBlock - 1) / kBlock);
 #pragma omp parallel num_threads(threads)
@@ -542,9 +547,14 @@ void MortonTree::nearestOfEach(const MortonTree& queries, int threads,
         // The previous query's nearest point bounds this one's distance (coherent order).
         std::uint32_t best_index = cursor.seed;
         double best = best_index == kNone ? kInf : sqrDist(q, best_index);
+        if (!(best < bound)) { // the seed is too far: only nearer points count
+          best = bound;
+          best_index = kNone;
+        }
         best = seededNearest(q, best, best_index, cursor);
         cursor.seed = best_index;
-        dists[k - begin] = std::sqrt(best);
+        const double dist = best_index == kNone ? kInf : std::sqrt(best);
+        dists[k - begin] = dist < max_dist ? dist : kInf;
       }
       block(static_cast<std::size_t>(b), begin, end, dists);
     }

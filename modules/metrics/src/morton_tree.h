@@ -73,7 +73,10 @@ public:
   /// of queries [begin, end) of block b, from the thread that computed them.
   using BlockFn = std::function<void(std::size_t block, std::size_t begin,
                                      std::size_t end, const double* dists)>;
-  void nearestOfEach(const MortonTree& queries, int threads, const BlockFn& block) const;
+  /// With `max_dist` (> 0), only the distances below it are needed: those are exact,
+  /// and every other is +infinity (the search for a point stops at max_dist).
+  void nearestOfEach(const MortonTree& queries, int threads, const BlockFn& block,
+                     double max_dist = std::numeric_limits<double>::infinity()) const;
 
   /// \brief The nearest point to q; ties go to the smallest cloud index.
   /// \return false when the tree is empty.

@@ -75,7 +75,7 @@ DirectedSums directedMetrics(const MortonTree& queries, const MortonTree& target
 }
 
 void directedDistances(const MortonTree& queries, const MortonTree& targets, int threads,
-                       std::vector<double>& out)
+                       std::vector<double>& out, double max_dist = kInf)
 {
   out.assign(queries.cloudSize(), std::numeric_limits<double>::quiet_NaN());
   if (targets.size() == 0) {
@@ -88,7 +88,8 @@ void directedDistances(const MortonTree& queries, const MortonTree& targets, int
       [&](std::size_t, std::size_t begin, std::size_t end, const double* dists) {
         for (std::size_t k = begin; k < end; ++k)
           out[queries.cloudIndex(k)] = dists[k - begin];
-      });
+      },
+      max_dist);
 }
 
 } // namespace
@@ -204,6 +205,19 @@ void ReconstructionMetrics::computeDistances(
   directedDistances(impl_->reference, impl_->reconstruction,
                     threads_ > 0 ? threads_ : omp_get_max_threads(),
                     reference_to_reconstruction);
+}
+
+void ReconstructionMetrics::computeDistancesBelow(
+    double max_distance_m, std::vector<double>& reference_to_reconstruction) const
+{
+  requireClouds(impl_ && impl_->has_reference, impl_ && impl_->has_reconstruction,
+                "computeDistancesBelow");
+  if (!(max_distance_m > 0.0))
+    throw InvalidArgumentError("computeDistancesBelow: max_distance_m = " +
+                               std::to_string(max_distance_m) + ", expected > 0");
+  directedDistances(impl_->reference, impl_->reconstruction,
+                    threads_ > 0 ? threads_ : omp_get_max_threads(),
+                    reference_to_reconstruction, max_distance_m);
 }
 
 int viewsToReach(const std::vector<double>& curve, double tau)

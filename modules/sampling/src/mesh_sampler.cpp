@@ -1,5 +1,7 @@
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
+#include <limits>
 #include <string>
 
 #include <pcl/point_cloud.h>
@@ -29,6 +31,53 @@ void MeshSampler::setInputMesh(const MeshConstPtr& mesh)
   mesh_ = mesh;
   cumulative_area_ = std::move(cumulative);
   total_area_ = total;
+  buildGuide();
+}
+
+void MeshSampler::buildGuide()
+{
+  // As many slices as triangles: a draw's slice holds about one triangle's boundary, so
+  // that its search is a compare or two instead of ~15 jumps across the whole table.
+  const std::size_t n = cumulative_area_.size();
+  guide_.clear();
+  if (n > std::numeric_limits<std::uint32_t>::max())
+    return; // draws search the whole table
+  const std::size_t slices = n;
+  slices_per_m2_ = static_cast<double>(slices) / total_area_;
+  if (!std::isfinite(slices_per_m2_))
+    return; // an area far below any real mesh's
+  guide_.resize(slices + 1);
+  std::size_t i = 0;
+  for (std::size_t j = 0; j < slices; ++j) {
+    const double start = static_cast<double>(j) / slices_per_m2_;
+    while (i < n && cumulative_area_[i] <= start)
+      ++i;
+    guide_[j] = static_cast<std::uint32_t>(i);
+  }
+  guide_[slices] = static_cast<std::uint32_t>(n);
+}
+
+std::size_t MeshSampler::triangleAt(double u) const
+{
+  // The first triangle whose cumulative area exceeds u, as std::upper_bound over the
+  // whole table finds it. The guide narrows the search to u's slice, [lo, hi] (hi: the
+  // answer when no triangle of [lo, hi) exceeds u); its ends are checked, so that
+  // rounding in the slice's index can only cost a search of the whole table.
+  const auto first = cumulative_area_.begin(), last = cumulative_area_.end();
+  const std::size_t n = cumulative_area_.size();
+  if (!guide_.empty()) {
+    const std::size_t slices = guide_.size() - 1;
+    const std::size_t j =
+        std::min(static_cast<std::size_t>(u * slices_per_m2_), slices - 1);
+    const std::size_t lo = guide_[j], hi = guide_[j + 1];
+    if ((lo == 0 || cumulative_area_[lo - 1] <= u) &&
+        (hi == n || cumulative_area_[hi] > u))
+      return static_cast<std::size_t>(
+          std::upper_bound(first + static_cast<std::ptrdiff_t>(lo),
+                           first + static_cast<std::ptrdiff_t>(hi), u) -
+          first);
+  }
+  return static_cast<std::size_t>(std::upper_bound(first, last, u) - first);
 }
 
 void MeshSampler::setNumberOfPoints(std::size_t n)
@@ -44,17 +93,14 @@ void MeshSampler::draw(Emit&& emit) const
   if (!mesh_)
     throw InvalidArgumentError("MeshSampler: no input mesh set (call setInputMesh)");
   Rng rng(seed_);
-  const auto first = cumulative_area_.begin();
   // Rounding can make u reach the total: the last triangle with area takes it then.
-  const auto last_with_area =
-      std::lower_bound(first, cumulative_area_.end(), total_area_);
+  const auto last_with_area = static_cast<std::size_t>(
+      std::lower_bound(cumulative_area_.begin(), cumulative_area_.end(), total_area_) -
+      cumulative_area_.begin());
   for (std::size_t i = 0; i < n_points_; ++i) {
     const double u = rng.uniform() * total_area_;
     // The first triangle whose cumulative area exceeds u: zero-area ones never qualify.
-    auto it = std::upper_bound(first, cumulative_area_.end(), u);
-    if (it > last_with_area)
-      it = last_with_area;
-    const auto t = static_cast<std::size_t>(it - first);
+    const std::size_t t = std::min(triangleAt(u), last_with_area);
     const auto& tri = mesh_->triangles[t];
     const Eigen::Vector3d a = mesh_->vertices[tri[0]].cast<double>();
     const Eigen::Vector3d b = mesh_->vertices[tri[1]].cast<double>();

@@ -103,6 +103,13 @@ public:
                         std::vector<double>& reference_to_reconstruction) const;
   /// \brief As computeDistances, T to R only (what recall needs, at half the cost).
   void computeDistances(std::vector<double>& reference_to_reconstruction) const;
+  /// \brief As computeDistances (T to R), where only the distances below
+  /// `max_distance_m` matter (recall at a threshold): those are exact, every other is
+  /// +infinity. Faster where R covers little of T: the search for a point of T stops at
+  /// the bound. \throws InvalidArgumentError if a cloud was not set or the bound is
+  /// not > 0 (NaN included).
+  void computeDistancesBelow(double max_distance_m,
+                             std::vector<double>& reference_to_reconstruction) const;
 
 private:
   struct Impl;

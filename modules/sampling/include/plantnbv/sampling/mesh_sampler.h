@@ -2,8 +2,10 @@
 /// \file mesh_sampler.h
 /// \brief Area-weighted uniform sampling of a triangle mesh's surface.
 
+#include <cstddef>
 #include <cstdint>
 #include <memory>
+#include <vector>
 
 #include <plantnbv/common/pcl_fwd.h>
 #include <plantnbv/common/triangle_mesh.h>
@@ -57,10 +59,17 @@ private:
   /// Draws the points; calls emit(point, triangle index) N times.
   template <typename Emit>
   void draw(Emit&& emit) const;
+  /// The guide of the area table: equal slices of the total area, each with the first
+  /// triangle whose cumulative area exceeds the slice's start (empty: none).
+  void buildGuide();
+  /// The first triangle whose cumulative area exceeds u (std::upper_bound's answer).
+  std::size_t triangleAt(double u) const;
 
   MeshConstPtr mesh_;
   std::vector<double> cumulative_area_; ///< cumulative_area_[t] = sum of areas [0, t]
   double total_area_ = 0.0;
+  std::vector<std::uint32_t> guide_; ///< buildGuide's table, one more entry than slices
+  double slices_per_m2_ = 0.0;       ///< the guide's slices per m^2 of area
   std::size_t n_points_ = 100000;
   std::uint64_t seed_ = 0;
 };
