@@ -349,11 +349,12 @@ double nextBrickEntry(const MarchRay& ray, const VoxelLattice& lattice, int shif
 constexpr double kJumpMarginVoxels = 1e-4;
 
 /// \brief The shortest gap (voxels along the ray) traverseRayInRegion jumps over once the
-/// march has found where it ends: the bulk additions of advanceBelow cost about as much
-/// as walking a dozen voxels, so shorter gaps are walked (16 measured best of 8, 16, 32
-/// and 64; docs/performance.md). The first jump, from a RegionHorizon bound, advances
-/// the state anyway and takes every gap.
-constexpr double kMinJumpVoxels = 16.0;
+/// march has found where it ends: advancing the state costs about as much as walking a
+/// few voxels, so shorter gaps are walked (8 measured best of 4, 8 and 16 since the
+/// advance's runs go side by side; 16 of 8, 16, 32 and 64 before: docs/performance.md,
+/// "Shorter jumps" and "Jumps from 8 voxels"). The first jump, from a RegionHorizon
+/// bound, advances the state anyway and takes every gap.
+constexpr double kMinJumpVoxels = 8.0;
 
 /// \brief Takes at once every DDA step that enters a voxel before `target`: OctoMap's
 /// steps are the merge of the three axes' border crossings ordered by t, so those are,
