@@ -37,7 +37,7 @@ void MeshSampler::setInputMesh(const MeshConstPtr& mesh)
 void MeshSampler::buildGuide()
 {
   // As many slices as triangles: a draw's slice holds about one triangle's boundary, so
-  // that its search is a compare or two instead of ~15 jumps across the whole table.
+  // that its search is a compare or two instead of log2(n) jumps across the whole table.
   const std::size_t n = cumulative_area_.size();
   guide_.clear();
   if (n > std::numeric_limits<std::uint32_t>::max())
