@@ -112,8 +112,7 @@ void ReconstructionMetrics::setReference(const CloudXYZConstPtr& reference)
   if (!impl_)
     impl_ = std::make_unique<Impl>(); // moved-from object reused
   impl_->has_reference = false;       // stays unset if the build throws
-  buildTree(impl_->reference, *reference,
-            threads_ > 0 ? threads_ : omp_get_max_threads());
+  buildTree(impl_->reference, *reference, threadCount());
   impl_->has_reference = true;
 }
 
@@ -124,8 +123,7 @@ void ReconstructionMetrics::setReconstruction(const CloudXYZConstPtr& reconstruc
   if (!impl_)
     impl_ = std::make_unique<Impl>();
   impl_->has_reconstruction = false;
-  buildTree(impl_->reconstruction, *reconstruction,
-            threads_ > 0 ? threads_ : omp_get_max_threads());
+  buildTree(impl_->reconstruction, *reconstruction, threadCount());
   impl_->has_reconstruction = true;
 }
 
@@ -163,7 +161,7 @@ MetricsResult ReconstructionMetrics::compute() const
                 "compute");
   const MortonTree& r = impl_->reconstruction;
   const MortonTree& t = impl_->reference;
-  const int threads = threads_ > 0 ? threads_ : omp_get_max_threads();
+  const int threads = threadCount();
   MetricsResult m;
   m.rho = rho_;
   m.reconstruction_points = r.size();
@@ -192,31 +190,38 @@ void ReconstructionMetrics::computeDistances(
     std::vector<double>& reference_to_reconstruction) const
 {
   computeDistances(reference_to_reconstruction); // checks the clouds
-  directedDistances(impl_->reconstruction, impl_->reference,
-                    threads_ > 0 ? threads_ : omp_get_max_threads(),
+  directedDistances(impl_->reconstruction, impl_->reference, threadCount(),
                     reconstruction_to_reference);
 }
 
 void ReconstructionMetrics::computeDistances(
     std::vector<double>& reference_to_reconstruction) const
 {
-  requireClouds(impl_ && impl_->has_reference, impl_ && impl_->has_reconstruction,
-                "computeDistances");
-  directedDistances(impl_->reference, impl_->reconstruction,
-                    threads_ > 0 ? threads_ : omp_get_max_threads(),
-                    reference_to_reconstruction);
+  referenceDistances("computeDistances", kInf, reference_to_reconstruction);
 }
 
 void ReconstructionMetrics::computeDistancesBelow(
     double max_distance_m, std::vector<double>& reference_to_reconstruction) const
 {
-  requireClouds(impl_ && impl_->has_reference, impl_ && impl_->has_reconstruction,
-                "computeDistancesBelow");
   if (!(max_distance_m > 0.0))
     throw InvalidArgumentError("computeDistancesBelow: max_distance_m = " +
                                std::to_string(max_distance_m) + ", expected > 0");
-  directedDistances(impl_->reference, impl_->reconstruction,
-                    threads_ > 0 ? threads_ : omp_get_max_threads(),
+  referenceDistances("computeDistancesBelow", max_distance_m,
+                     reference_to_reconstruction);
+}
+
+int ReconstructionMetrics::threadCount() const
+{
+  return threads_ > 0 ? threads_ : omp_get_max_threads();
+}
+
+void ReconstructionMetrics::referenceDistances(
+    const char* caller, double max_distance_m,
+    std::vector<double>& reference_to_reconstruction) const
+{
+  requireClouds(impl_ && impl_->has_reference, impl_ && impl_->has_reconstruction,
+                caller);
+  directedDistances(impl_->reference, impl_->reconstruction, threadCount(),
                     reference_to_reconstruction, max_distance_m);
 }
 

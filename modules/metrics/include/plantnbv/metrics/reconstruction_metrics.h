@@ -112,6 +112,13 @@ public:
                              std::vector<double>& reference_to_reconstruction) const;
 
 private:
+  /// The OpenMP threads to use: threads_, or OpenMP's default for 0.
+  int threadCount() const;
+  /// computeDistances (T to R) with distances from `max_distance_m` on given as
+  /// +infinity; `caller` names the call in the error for a missing cloud.
+  void referenceDistances(const char* caller, double max_distance_m,
+                          std::vector<double>& reference_to_reconstruction) const;
+
   struct Impl;
   std::unique_ptr<Impl> impl_;
   double rho_ = 0.003;
