@@ -216,18 +216,12 @@ void Trial::run(TrialResult& result)
 }
 
 std::shared_ptr<const UpdateRegion>
-Trial::readRegion(const TriangleMesh& background) const
+Trial::surfaceRegion(const TriangleMesh& background) const
 {
   const TrialConfig& c = config_;
-  // The planner reads its ROIs' voxels and the occupied ones only when it has fixed
-  // ROIs and no visibility weighting (gain_snapshot.h); a voxel becomes occupied only
-  // where a ray ends, on the scene's triangles up to rounding, when the sensor has no
-  // noise and the plant is a mesh.
-  const bool explores = c.planner == PlannerKind::nbv &&
-                        (c.explore_share > 0.0 || c.roi_source.explorationViews() > 0);
-  if (attended_.empty() || (explores && exploration_.empty()) ||
-      c.roi_source.followsFrames() || c.gain.visibility_weighted || c.noise.enabled ||
-      plant_->mesh.empty())
+  // A voxel becomes occupied only where a ray ends, on the scene's triangles up to
+  // rounding, when the sensor has no noise and the plant is a mesh.
+  if (c.noise.enabled || plant_->mesh.empty())
     return nullptr;
   const double res = c.map.resolution_m;
   // Rays reach max_range_m from a camera on the sector or at v0; outside these bounds
@@ -253,6 +247,21 @@ Trial::readRegion(const TriangleMesh& background) const
   const double surface_margin = res + (c.depth_scale > 0.0 ? 1.0 / c.depth_scale : 0.0);
   region->addMesh(plant_->mesh, surface_margin);
   region->addMesh(background, surface_margin);
+  return region;
+}
+
+std::shared_ptr<const UpdateRegion> Trial::readRegion(const UpdateRegion& surface) const
+{
+  const TrialConfig& c = config_;
+  // The planner reads its ROIs' voxels and the occupied ones only when it has fixed
+  // ROIs and no visibility weighting (gain_snapshot.h).
+  const bool explores = c.planner == PlannerKind::nbv &&
+                        (c.explore_share > 0.0 || c.roi_source.explorationViews() > 0);
+  if (attended_.empty() || (explores && exploration_.empty()) ||
+      c.roi_source.followsFrames() || c.gain.visibility_weighted)
+    return nullptr;
+  auto region = std::make_shared<UpdateRegion>(surface);
+  const double res = c.map.resolution_m;
   for (const Box& box : attended_.boxes())
     region->addBox(box, 2.0 * res);
   if (explores)
@@ -329,9 +338,12 @@ bool Trial::runOnce(TrialResult& result, bool with_region)
   // The prior: leaf nodes along the stem, the detected ones added to them.
   const LeafNodePrior prior(c.roi_source.priorConfig());
   map_ = session.getMap();
-  const std::shared_ptr<const UpdateRegion> region =
-      with_region ? readRegion(background) : nullptr;
-  map_->setUpdateRegion(region);
+  // Frames that a plan reads go exactly into the voxels it reads and those a frame can
+  // make occupied; the last frame, read by the scores only (the occupied voxels), into
+  // the latter.
+  const std::shared_ptr<const UpdateRegion> surface =
+      with_region ? surfaceRegion(background) : nullptr;
+  map_->setUpdateRegion(surface ? readRegion(*surface) : nullptr);
   result.setup_ms = setup_clock.ms();
   auto checkTimeLimit = [&](const char* after) {
     if (c.time_limit_s > 0.0 && total_clock.ms() > 1000.0 * c.time_limit_s) {
@@ -378,6 +390,8 @@ bool Trial::runOnce(TrialResult& result, bool with_region)
     step.capture_ms = capture_clock.ms();
 
     Stopwatch insert_clock;
+    if (surface && index + 1 == c.views)
+      map_->setUpdateRegion(surface);
     const Pose T_W_O = opticalFrame(view); // a frames folder reads it back bit for bit
     if (rounded_depth) {
       roundDepthToUnits(depth, c.depth_scale);
@@ -386,7 +400,7 @@ bool Trial::runOnce(TrialResult& result, bool with_region)
       session.integrate(frame, view.position);
     }
     step.insert_ms = insert_clock.ms();
-    if (region && map_->getLastInsertStats().hits_outside_region > 0)
+    if (map_->getUpdateRegion() && map_->getLastInsertStats().hits_outside_region > 0)
       return false;
     if (detecting) { // the depth as integrated: a frames folder replays to this ROI
       detector.detect(frame, attention_, static_cast<std::uint64_t>(index), detections);

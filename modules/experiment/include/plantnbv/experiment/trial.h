@@ -241,9 +241,10 @@ public:
   /// voxels (an attention ROI, not from detections; no visibility weighting; a mesh
   /// plant; no noise; no callbacks), run() inserts exactly only the ROIs' voxels and the
   /// voxels near the scene's surface, the only ones a frame can make occupied
-  /// (OccupancyMap::setUpdateRegion), and skips the rest of the free space. The steps
-  /// and scores are the same; should a hit fall outside that region, run() starts again
-  /// with the full map.
+  /// (OccupancyMap::setUpdateRegion), and skips the rest of the free space; the last
+  /// frame, which no plan reads, only the voxels near the surface (also for the planners
+  /// that read more: a mesh plant, no noise, no callbacks). The steps and scores are the
+  /// same; should a hit fall outside that region, run() starts again with the full map.
   void setKeepFullMap(bool keep) { keep_full_map_ = keep; }
   /// \brief See setKeepFullMap.
   bool getKeepFullMap() const { return keep_full_map_; }
@@ -275,12 +276,15 @@ private:
   std::shared_ptr<OccupancyMap> map_;
   bool keep_full_map_ = true;
 
-  /// One run, with an update region where readRegion gives one (`with_region`); false
-  /// when a hit fell outside it (the result is then incomplete).
+  /// One run, with update regions where surfaceRegion gives one (`with_region`); false
+  /// when a hit fell outside them (the result is then incomplete).
   bool runOnce(TrialResult& result, bool with_region);
-  /// A region that holds every voxel this run reads (after attended_ and sector_ are
-  /// set), or null where it may read any voxel.
-  std::shared_ptr<const UpdateRegion> readRegion(const TriangleMesh& background) const;
+  /// The bricks where a frame can make a voxel occupied, near the scene's triangles
+  /// (after sector_ is set), or null where hits are not known to fall there.
+  std::shared_ptr<const UpdateRegion> surfaceRegion(const TriangleMesh& background) const;
+  /// `surface` and the bricks of the ROIs the planner reads (after attended_ is set):
+  /// every voxel a plan reads, or null where a plan may read any voxel.
+  std::shared_ptr<const UpdateRegion> readRegion(const UpdateRegion& surface) const;
   std::shared_ptr<ReconstructionEvaluator> evaluator_;
   CylindricalSector sector_;
 };
