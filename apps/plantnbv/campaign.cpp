@@ -124,10 +124,9 @@ void runCampaign(const RunOptions& o)
     specs = campaignChunk(specs, o.chunk, o.chunks);
   }
 
-  LocalRunner runner(
-      store,
-      [&f](const TrialSpec& t, TrialResult& r) { scenario::runCampaignTrial(f, t, r); },
-      o.workers);
+  // The trials of one plant and pose one after another: they share its scene.
+  scenario::groupTrialsByScene(specs);
+  LocalRunner runner(store, scenario::campaignTrialFunction(f, o.workers), o.workers);
   const bool tty = ::isatty(STDOUT_FILENO) != 0;
   bool stop_announced = false;
   runner.setProgressCallback([&](const CampaignProgress& p) {

@@ -190,11 +190,10 @@ py::dict runCampaign(const Path& file, const Path& out_dir, int workers,
   const scenario::CampaignFile f = scenario::loadCampaignFile(file.string());
   const ResultStore store(out_dir);
   store.create(f.text, f.definition.content_fingerprint);
-  const std::vector<TrialSpec> specs = expandCampaign(f.definition);
-  LocalRunner runner(
-      store,
-      [&f](const TrialSpec& t, TrialResult& r) { scenario::runCampaignTrial(f, t, r); },
-      workers);
+  std::vector<TrialSpec> specs = expandCampaign(f.definition);
+  // The trials of one plant and pose one after another: they share its scene.
+  scenario::groupTrialsByScene(specs);
+  LocalRunner runner(store, scenario::campaignTrialFunction(f, workers), workers);
   // On the calling thread, about once a second: Ctrl-C stops new trials; run() then
   // waits for the running ones and rethrows.
   runner.setProgressCallback([&](const CampaignProgress& p) {

@@ -1,5 +1,7 @@
 #include <algorithm>
 #include <cmath>
+#include <thread>
+#include <tuple>
 
 #include <gtest/gtest.h>
 
@@ -286,4 +288,112 @@ TEST_F(ScenarioFiles, AModelsScaleAndSectorRadiusReachItsTrials)
                                 "t.yaml");
             }),
             "'t.yaml' plants[0].sector_radius: 0 is not a radius in metres > 0");
+}
+
+namespace {
+
+/// Everything of two trial results but their timings (NaN equals NaN).
+void expectSameResults(const TrialResult& a, const TrialResult& b)
+{
+  const auto same = [](double x, double y) {
+    return x == y || (std::isnan(x) && std::isnan(y));
+  };
+  ASSERT_EQ(a.steps.size(), b.steps.size());
+  for (std::size_t i = 0; i < a.steps.size(); ++i) {
+    const TrialStep& s = a.steps[i];
+    const TrialStep& t = b.steps[i];
+    EXPECT_EQ(s.view.position, t.view.position) << i;
+    EXPECT_TRUE(same(s.gain, t.gain)) << i;
+    EXPECT_EQ(s.occupied_voxels, t.occupied_voxels) << i;
+    ASSERT_EQ(s.organs.size(), t.organs.size());
+    for (std::size_t o = 0; o < s.organs.size(); ++o)
+      EXPECT_TRUE(same(s.organs[o].recall, t.organs[o].recall)) << i;
+    ASSERT_EQ(s.scores.size(), t.scores.size());
+    for (std::size_t l = 0; l < s.scores.size(); ++l) {
+      EXPECT_EQ(s.scores[l].f1, t.scores[l].f1) << i;
+      EXPECT_EQ(s.scores[l].reconstruction_points, t.scores[l].reconstruction_points);
+      EXPECT_TRUE(same(s.scores[l].chamfer, t.scores[l].chamfer)) << i;
+    }
+  }
+}
+
+} // namespace
+
+TEST(CampaignFile, TrialsOfOnePlantAndPoseShareTheirSceneWithTheSameResults)
+{
+  const CampaignFile f = parseCampaignFile(
+      "name: t\nplants: [{seed: 0}]\nyaws_deg: [0, 90]\nviews: 2\ncandidates: 9\n"
+      "levels: [whole_plant, leaf_nodes]\n"
+      "trial: {camera: '160x120:114.25,114.25,79.5,59.5', gain: {rays_x: 16, rays_y: "
+      "12}}\n"
+      "studies:\n"
+      "  - name: main\n    planners: [{type: nbv, attention: leaf-nodes}, {type: "
+      "random}]\n"
+      "  - name: row\n    row_spacings: [0.3]\n    planners: [{type: random}]\n",
+      "t.yaml");
+  std::vector<TrialSpec> specs = expandCampaign(f.definition);
+  ASSERT_EQ(specs.size(), 6u);
+  // Grouped by plant, variant, yaw and row, in their order otherwise.
+  std::vector<std::string> ids;
+  for (const TrialSpec& t : specs)
+    ids.push_back(t.id);
+  groupTrialsByScene(specs);
+  for (std::size_t i = 1; i < specs.size(); ++i)
+    EXPECT_FALSE(std::tie(specs[i].yaw_deg, specs[i].row_spacing_m) <
+                 std::tie(specs[i - 1].yaw_deg, specs[i - 1].row_spacing_m))
+        << specs[i].id;
+  for (std::size_t i = 1; i < specs.size(); ++i) {
+    if (specs[i].yaw_deg == specs[i - 1].yaw_deg &&
+        specs[i].row_spacing_m == specs[i - 1].row_spacing_m) {
+      EXPECT_LT(std::find(ids.begin(), ids.end(), specs[i - 1].id),
+                std::find(ids.begin(), ids.end(), specs[i].id));
+    }
+  }
+
+  // Four scenes (two yaws, alone and in a row), each made once; every trial as without.
+  CampaignSceneCache cache(2);
+  for (const TrialSpec& t : specs) {
+    TrialResult own, shared;
+    runCampaignTrial(f, t, own);
+    runCampaignTrial(f, t, shared, &cache);
+    SCOPED_TRACE(t.id);
+    expectSameResults(own, shared);
+  }
+  EXPECT_EQ(cache.builds(), 4u);
+  // Ungrouped, with room for one scene, each change of scene makes it again.
+  CampaignSceneCache one(1);
+  const std::vector<TrialSpec> in_file_order = expandCampaign(f.definition);
+  std::size_t changes = 1;
+  for (std::size_t i = 0; i < in_file_order.size(); ++i) {
+    TrialResult result;
+    runCampaignTrial(f, in_file_order[i], result, &one);
+    if (i > 0 && (in_file_order[i].yaw_deg != in_file_order[i - 1].yaw_deg ||
+                  in_file_order[i].row_spacing_m != in_file_order[i - 1].row_spacing_m))
+      ++changes;
+  }
+  EXPECT_GT(changes, 4u);
+  EXPECT_EQ(one.builds(), changes);
+  EXPECT_THROW(CampaignSceneCache(0), InvalidArgumentError);
+}
+
+TEST(CampaignFile, WorkersAskingForOneSceneTogetherWaitForOneBuild)
+{
+  const CampaignFile f = parseCampaignFile(
+      kHead + "studies:\n  - name: main\n    planners: [{type: random}]\n", "t.yaml");
+  const TrialSpec t = expandCampaign(f.definition).at(0);
+  const TrialConfig config = campaignTrialConfig(f, t);
+  CampaignSceneCache cache(1);
+  std::vector<std::shared_ptr<const CampaignSceneCache::Entry>> got(4);
+  std::vector<std::thread> threads;
+  for (std::size_t i = 0; i < got.size(); ++i)
+    threads.emplace_back([&, i] { got[i] = cache.get(f, t, config); });
+  for (std::thread& thread : threads)
+    thread.join();
+  EXPECT_EQ(cache.builds(), 1u);
+  for (const auto& entry : got) {
+    ASSERT_NE(entry, nullptr);
+    EXPECT_EQ(entry, got[0]);
+    EXPECT_NE(entry->scene, nullptr);
+    EXPECT_FALSE(entry->placed.plant.mesh.empty());
+  }
 }

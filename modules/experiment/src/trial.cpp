@@ -287,8 +287,10 @@ bool Trial::runOnce(TrialResult& result, bool with_region)
     noise.seed = deriveSeed(c.seed, kNoiseStream);
     sensor.setNoise(noise);
   }
-  sensor.setScene(makePlantScene(*plant_, c.scene, static_cast<unsigned int>(c.threads),
-                                 neighbours_));
+  sensor.setScene(scene_ ? scene_
+                         : makePlantScene(*plant_, c.scene,
+                                          static_cast<unsigned int>(c.threads),
+                                          neighbours_));
   evaluator_ = std::make_shared<ReconstructionEvaluator>();
   ReconstructionEvaluator& evaluator = *evaluator_;
   evaluator.setResolution(c.map.resolution_m);

@@ -1,8 +1,12 @@
 #include <algorithm>
 #include <cmath>
+#include <future>
 #include <iomanip>
+#include <list>
 #include <map>
+#include <mutex>
 #include <sstream>
+#include <tuple>
 
 #include <plantnbv/common/error.h>
 #include <plantnbv/io/mesh_io.h>
@@ -476,7 +480,9 @@ CampaignFile parseCampaignFile(const std::string& text, const std::string& path,
   return f;
 }
 
-void runCampaignTrial(const CampaignFile& f, const TrialSpec& t, TrialResult& result)
+namespace {
+
+PlantSource plantSourceOf(const CampaignFile& f, const TrialSpec& t)
 {
   const CampaignPlant& plant = f.definition.plants.at(t.plant_index);
   PlantSource source;
@@ -494,11 +500,121 @@ void runCampaignTrial(const CampaignFile& f, const TrialSpec& t, TrialResult& re
   source.rois = resolve(f, plant.rois);
   source.keep_frame = plant.keep_frame;
   source.yaw_deg = t.yaw_deg;
-  const PlacedPlant placed = makePlacedPlant(source);
-  TrialConfig config = campaignTrialConfig(f, t);
+  return source;
+}
+
+/// Trial `t`'s sector (config: campaignTrialConfig) fitted to its plant.
+void fitCampaignSector(const CampaignFile& f, const TrialSpec& t,
+                       const PlacedPlant& placed, TrialConfig& config)
+{
   fitSectorToPlant(placed, std::nullopt, config);
+  const CampaignPlant& plant = f.definition.plants.at(t.plant_index);
   if (plant.sector_radius_m)
     config.sector.radius_m = *plant.sector_radius_m;
+}
+
+/// Everything a CampaignSceneCache entry is made from, exactly (doubles in hex).
+std::string sceneKey(const TrialSpec& t, const TrialConfig& c)
+{
+  std::ostringstream k;
+  k << std::hexfloat << t.plant_index << ' ' << t.simplified << ' ' << t.yaw_deg << ' '
+    << t.row_spacing_m << ' ' << c.threads;
+  const CylindricalSector& sector = c.sector;
+  k << " sector " << sector.axis_base.x() << ' ' << sector.axis_base.y() << ' '
+    << sector.axis_base.z() << ' ' << sector.radius_m << ' ' << sector.height_m << ' '
+    << sector.bottom_m << ' ' << sector.angle_rad << ' ' << sector.facing_rad;
+  const PlantSceneConfig& scene = c.scene;
+  k << " scene " << scene.floor << ' ' << scene.floor_height_m << ' '
+    << scene.floor_half_size_m << ' ' << scene.support << ' '
+    << scene.support_half_width_m << ' ' << scene.surfels.radius_m << ' '
+    << scene.surfels.spacing_neighbours << ' ' << scene.surfels.radius_factor;
+  return k.str();
+}
+
+} // namespace
+
+struct CampaignSceneCache::Impl {
+  using Future = std::shared_future<std::shared_ptr<const Entry>>;
+  std::size_t capacity;
+  mutable std::mutex mutex;
+  std::list<std::pair<std::string, Future>> entries; ///< the last asked for first
+  std::size_t builds = 0;
+};
+
+CampaignSceneCache::CampaignSceneCache(std::size_t capacity)
+    : impl_(std::make_unique<Impl>())
+{
+  if (capacity == 0)
+    throw InvalidArgumentError("CampaignSceneCache: the capacity must be at least 1");
+  impl_->capacity = capacity;
+}
+
+CampaignSceneCache::~CampaignSceneCache() = default;
+
+std::size_t CampaignSceneCache::builds() const
+{
+  std::lock_guard<std::mutex> lock(impl_->mutex);
+  return impl_->builds;
+}
+
+std::shared_ptr<const CampaignSceneCache::Entry>
+CampaignSceneCache::get(const CampaignFile& f, const TrialSpec& t,
+                        const TrialConfig& config)
+{
+  const std::string key = sceneKey(t, config);
+  std::promise<std::shared_ptr<const Entry>> promise;
+  Impl::Future future;
+  bool make = false;
+  {
+    std::lock_guard<std::mutex> lock(impl_->mutex);
+    auto& entries = impl_->entries;
+    const auto it = std::find_if(entries.begin(), entries.end(),
+                                 [&](const auto& e) { return e.first == key; });
+    if (it != entries.end()) {
+      entries.splice(entries.begin(), entries, it);
+    } else {
+      entries.emplace_front(key, promise.get_future().share());
+      if (entries.size() > impl_->capacity)
+        entries.pop_back(); // a build under way goes on for those who wait for it
+      ++impl_->builds;
+      make = true;
+    }
+    future = entries.front().second;
+  }
+  if (make) {
+    try {
+      auto entry = std::make_shared<Entry>();
+      entry->placed = makePlacedPlant(plantSourceOf(f, t));
+      TrialConfig fitted = config;
+      fitCampaignSector(f, t, entry->placed, fitted);
+      entry->neighbours = rowNeighbourPlants(entry->placed, t.row_spacing_m, fitted);
+      entry->scene =
+          makePlantScene(entry->placed.plant, fitted.scene,
+                         static_cast<unsigned int>(fitted.threads), entry->neighbours);
+      promise.set_value(std::move(entry));
+    } catch (...) {
+      promise.set_exception(std::current_exception());
+      // Those waiting get the error; a later trial tries again.
+      std::lock_guard<std::mutex> lock(impl_->mutex);
+      impl_->entries.remove_if([&](const auto& e) { return e.first == key; });
+    }
+  }
+  return future.get();
+}
+
+void runCampaignTrial(const CampaignFile& f, const TrialSpec& t, TrialResult& result,
+                      CampaignSceneCache* cache)
+{
+  TrialConfig config = campaignTrialConfig(f, t);
+  std::shared_ptr<const CampaignSceneCache::Entry> shared;
+  PlacedPlant own;
+  if (cache)
+    shared = cache->get(f, t, config);
+  else
+    own = makePlacedPlant(plantSourceOf(f, t));
+  const PlacedPlant& placed = shared ? shared->placed : own;
+  fitCampaignSector(f, t, placed, config);
+  const CampaignPlant& plant = f.definition.plants.at(t.plant_index);
   std::vector<EvaluationLevel> levels = evaluationLevels(placed);
   const std::vector<std::string>& wanted = f.definition.levels;
   if (!wanted.empty())
@@ -521,9 +637,32 @@ void runCampaignTrial(const CampaignFile& f, const TrialSpec& t, TrialResult& re
   }
   Trial trial(config);
   setUpTrial(placed, attentionRoi(placed, attention), levels, trial);
-  trial.setNeighbours(rowNeighbourPlants(placed, t.row_spacing_m, config));
+  if (shared) {
+    trial.setNeighbours(shared->neighbours);
+    trial.setScene(shared->scene);
+  } else {
+    trial.setNeighbours(rowNeighbourPlants(placed, t.row_spacing_m, config));
+  }
   trial.setKeepFullMap(false); // a campaign keeps the steps and scores, not the map
   trial.run(result);
+}
+
+LocalRunner::TrialFunction campaignTrialFunction(const CampaignFile& f, int workers)
+{
+  auto scenes = std::make_shared<CampaignSceneCache>(
+      static_cast<std::size_t>(LocalRunner::workerCount(workers)) + 1);
+  return [&f, scenes](const TrialSpec& t, TrialResult& result) {
+    runCampaignTrial(f, t, result, scenes.get());
+  };
+}
+
+void groupTrialsByScene(std::vector<TrialSpec>& specs)
+{
+  std::stable_sort(
+      specs.begin(), specs.end(), [](const TrialSpec& a, const TrialSpec& b) {
+        return std::tie(a.plant_index, a.simplified, a.yaw_deg, a.row_spacing_m) <
+               std::tie(b.plant_index, b.simplified, b.yaw_deg, b.row_spacing_m);
+      });
 }
 
 StoreStatus campaignDirectoryStatus(const std::filesystem::path& dir, CampaignFile* file)

@@ -167,7 +167,7 @@ struct TrialResult {
   std::vector<std::string> level_names; ///< the evaluation levels, in order
   std::vector<TrialStep> steps;         ///< one per view, v0 first
   bool stopped_early = false; ///< the NBV planner's gain fell below stop_gain_bits
-  double setup_ms = 0.0;      ///< scene (BVH) and ground truth
+  double setup_ms = 0.0;      ///< scene (BVH; not when given: setScene), ground truth
   double total_ms = 0.0;      ///< setup and all steps
 
   /// \brief F1 after each view for level `level` (index into level_names).
@@ -205,6 +205,12 @@ public:
   /// \brief Plants beside it (a greenhouse row; plant_scene.h): in the scene, occluding
   /// and mapped, but not scored (their voxels are left out as background). Default none.
   void setNeighbours(NeighbourPlants neighbours) { neighbours_ = std::move(neighbours); }
+  /// \brief The sensor's scene, built beforehand: what makePlantScene(plant,
+  /// config.scene, config.threads, neighbours) gives for this trial's plant and
+  /// neighbours, so that the trials of one plant, pose and row share one BVH (a
+  /// campaign's scenario::CampaignSceneCache). run() cannot check that it shows its
+  /// plant. Null (default): run() builds it.
+  void setScene(SensorScene::ConstPtr scene) { scene_ = std::move(scene); }
   /// \brief The attention ROI of the NBV planner (also used to report the gain of the
   /// baselines' views), before TrialConfig::roi_source. Empty: every voxel counts (plain
   /// volumetric NBV).
@@ -267,6 +273,7 @@ private:
   TrialConfig config_;
   std::shared_ptr<const Plant> plant_;
   NeighbourPlants neighbours_;
+  SensorScene::ConstPtr scene_;
   Roi attention_;
   Roi exploration_;
   Roi attended_;

@@ -3,12 +3,17 @@
 /// \brief A campaign file (YAML, docs/campaigns.md): its definition, the trial config its
 /// trials share, and how one of its trials runs.
 
+#include <cstddef>
 #include <filesystem>
+#include <memory>
 #include <string>
+#include <vector>
 
 #include <plantnbv/experiment/campaign.h>
+#include <plantnbv/experiment/campaign_runner.h>
 #include <plantnbv/experiment/result_store.h>
 #include <plantnbv/experiment/trial.h>
+#include <plantnbv/scenario/placed_plant.h>
 
 namespace plantnbv {
 namespace scenario {
@@ -44,9 +49,55 @@ CampaignFile parseCampaignFile(const std::string& text, const std::string& path,
 /// the plant: fitSectorToPlant). One thread: campaigns run one trial per worker.
 TrialConfig campaignTrialConfig(const CampaignFile& f, const TrialSpec& t);
 
-/// \brief Runs trial `t` of `f`: its own plant, scene and map, on one thread.
+/// \brief What the trials of one plant, pose and row of a campaign file share, made once
+/// for them all: the placed plant, its neighbours and the sensor's scene (its BVH, the
+/// largest part of a trial's setup). One cache serves one campaign file. Thread-safe:
+/// workers that ask for the same entry together wait for one build. It keeps the entries
+/// asked for last, up to its capacity.
+class CampaignSceneCache {
+public:
+  /// \brief One plant, pose and row.
+  struct Entry {
+    PlacedPlant placed;          ///< the plant as its trials get it
+    NeighbourPlants neighbours;  ///< its row (none without row spacing)
+    SensorScene::ConstPtr scene; ///< makePlantScene of both, committed
+  };
+
+  /// \param[in] capacity entries kept (>= 1): a campaign's workers plus one lets each
+  /// worker's entry outlive a neighbour's switch to the next plant.
+  explicit CampaignSceneCache(std::size_t capacity);
+  ~CampaignSceneCache();
+
+  /// \brief The entry of trial `t` of `f` (its config: campaignTrialConfig), made on the
+  /// first call for its plant, variant, yaw, row and scene. \throws what making it
+  /// throws (then, the same to every trial that asks for it).
+  std::shared_ptr<const Entry> get(const CampaignFile& f, const TrialSpec& t,
+                                   const TrialConfig& config);
+
+  /// \brief Entries made so far (each at most once while kept).
+  std::size_t builds() const;
+
+private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+/// \brief Runs trial `t` of `f`: its own map, on one thread; its plant, neighbours and
+/// scene from `cache` when given (the same results), else its own.
 /// \throws the errors of the plant's files and of the trial.
-void runCampaignTrial(const CampaignFile& f, const TrialSpec& t, TrialResult& result);
+void runCampaignTrial(const CampaignFile& f, const TrialSpec& t, TrialResult& result,
+                      CampaignSceneCache* cache = nullptr);
+
+/// \brief What a LocalRunner of `f`'s trials on `workers` threads (0: one per core)
+/// calls: runCampaignTrial with a CampaignSceneCache of workers + 1 entries, shared by
+/// the trials of one plant and pose (give the runner the specs in groupTrialsByScene's
+/// order). `f` must outlive it. \throws InvalidArgumentError if `workers` < 0.
+LocalRunner::TrialFunction campaignTrialFunction(const CampaignFile& f, int workers);
+
+/// \brief `specs` reordered so that the trials of one plant, variant, yaw and row follow
+/// one another (otherwise in their order): what a CampaignSceneCache makes for them is
+/// made once. The results do not depend on the order.
+void groupTrialsByScene(std::vector<TrialSpec>& specs);
 
 /// \brief A campaign directory's counts against the campaign.yaml it holds (`campaign
 /// status`, Python's campaign_status); `file`, if not null, receives that file.
