@@ -126,7 +126,7 @@ void runCampaign(const RunOptions& o)
 
   // The trials of one plant and pose one after another: they share its scene.
   scenario::groupTrialsByScene(specs);
-  LocalRunner runner(store, scenario::campaignTrialFunction(f, o.workers), o.workers);
+  LocalRunner runner(store, scenario::campaignTrialFunction(f), o.workers);
   const bool tty = ::isatty(STDOUT_FILENO) != 0;
   bool stop_announced = false;
   runner.setProgressCallback([&](const CampaignProgress& p) {

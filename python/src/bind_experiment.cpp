@@ -193,7 +193,7 @@ py::dict runCampaign(const Path& file, const Path& out_dir, int workers,
   std::vector<TrialSpec> specs = expandCampaign(f.definition);
   // The trials of one plant and pose one after another: they share its scene.
   scenario::groupTrialsByScene(specs);
-  LocalRunner runner(store, scenario::campaignTrialFunction(f, workers), workers);
+  LocalRunner runner(store, scenario::campaignTrialFunction(f), workers);
   // On the calling thread, about once a second: Ctrl-C stops new trials; run() then
   // waits for the running ones and rethrows.
   runner.setProgressCallback([&](const CampaignProgress& p) {

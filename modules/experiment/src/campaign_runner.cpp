@@ -12,18 +12,12 @@
 namespace plantnbv {
 
 LocalRunner::LocalRunner(const ResultStore& store, TrialFunction run_trial, int workers)
-    : store_(store), run_trial_(std::move(run_trial)), workers_(workerCount(workers))
+    : store_(store), run_trial_(std::move(run_trial)), workers_(workers)
 {
-}
-
-int LocalRunner::workerCount(int requested)
-{
-  if (requested < 0)
-    throw InvalidArgumentError("workers: " + std::to_string(requested) +
-                               ", expected >= 0");
-  if (requested == 0)
-    return static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-  return requested;
+  if (workers < 0)
+    throw InvalidArgumentError("workers: " + std::to_string(workers) + ", expected >= 0");
+  if (workers_ == 0)
+    workers_ = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
 }
 
 CampaignProgress LocalRunner::run(const std::vector<TrialSpec>& specs)

@@ -647,10 +647,9 @@ void runCampaignTrial(const CampaignFile& f, const TrialSpec& t, TrialResult& re
   trial.run(result);
 }
 
-LocalRunner::TrialFunction campaignTrialFunction(const CampaignFile& f, int workers)
+LocalRunner::TrialFunction campaignTrialFunction(const CampaignFile& f)
 {
-  auto scenes = std::make_shared<CampaignSceneCache>(
-      static_cast<std::size_t>(LocalRunner::workerCount(workers)) + 1);
+  auto scenes = std::make_shared<CampaignSceneCache>(2);
   return [&f, scenes](const TrialSpec& t, TrialResult& result) {
     runCampaignTrial(f, t, result, scenes.get());
   };

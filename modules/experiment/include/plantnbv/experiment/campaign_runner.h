@@ -68,9 +68,6 @@ public:
 
   /// \brief The worker threads (hardware_concurrency() when 0 was given).
   int workers() const { return workers_; }
-  /// \brief The worker threads of a runner made with `requested` (0: one per core).
-  /// \throws InvalidArgumentError if `requested` < 0.
-  static int workerCount(int requested);
 
 private:
   const ResultStore& store_;

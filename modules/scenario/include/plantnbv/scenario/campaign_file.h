@@ -63,8 +63,7 @@ public:
     SensorScene::ConstPtr scene; ///< makePlantScene of both, committed
   };
 
-  /// \param[in] capacity entries kept (>= 1): a campaign's workers plus one lets each
-  /// worker's entry outlive a neighbour's switch to the next plant.
+  /// \param[in] capacity entries kept (>= 1).
   explicit CampaignSceneCache(std::size_t capacity);
   ~CampaignSceneCache();
 
@@ -88,11 +87,12 @@ private:
 void runCampaignTrial(const CampaignFile& f, const TrialSpec& t, TrialResult& result,
                       CampaignSceneCache* cache = nullptr);
 
-/// \brief What a LocalRunner of `f`'s trials on `workers` threads (0: one per core)
-/// calls: runCampaignTrial with a CampaignSceneCache of workers + 1 entries, shared by
-/// the trials of one plant and pose (give the runner the specs in groupTrialsByScene's
-/// order). `f` must outlive it. \throws InvalidArgumentError if `workers` < 0.
-LocalRunner::TrialFunction campaignTrialFunction(const CampaignFile& f, int workers);
+/// \brief What a LocalRunner of `f`'s trials calls: runCampaignTrial with a
+/// CampaignSceneCache of two entries, shared by the trials of one plant and pose (give
+/// the runner the specs in groupTrialsByScene's order). Two keep the plant the workers
+/// are on and the next one; a scene a running trial holds lives on outside the cache, so
+/// the cache adds at most two scenes to what the trials hold. `f` must outlive it.
+LocalRunner::TrialFunction campaignTrialFunction(const CampaignFile& f);
 
 /// \brief `specs` reordered so that the trials of one plant, variant, yaw and row follow
 /// one another (otherwise in their order): what a CampaignSceneCache makes for them is
