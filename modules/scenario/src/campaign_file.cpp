@@ -531,6 +531,22 @@ std::string sceneKey(const TrialSpec& t, const TrialConfig& c)
   return k.str();
 }
 
+/// What trial `t` (config: campaignTrialConfig) shares with the others of its plant,
+/// pose and row.
+std::shared_ptr<const CampaignSceneCache::Entry>
+makeSceneEntry(const CampaignFile& f, const TrialSpec& t, const TrialConfig& config)
+{
+  auto entry = std::make_shared<CampaignSceneCache::Entry>();
+  entry->placed = makePlacedPlant(plantSourceOf(f, t));
+  TrialConfig fitted = config;
+  fitCampaignSector(f, t, entry->placed, fitted);
+  entry->neighbours = rowNeighbourPlants(entry->placed, t.row_spacing_m, fitted);
+  entry->scene =
+      makePlantScene(entry->placed.plant, fitted.scene,
+                     static_cast<unsigned int>(fitted.threads), entry->neighbours);
+  return entry;
+}
+
 } // namespace
 
 struct CampaignSceneCache::Impl {
@@ -583,15 +599,7 @@ CampaignSceneCache::get(const CampaignFile& f, const TrialSpec& t,
   }
   if (make) {
     try {
-      auto entry = std::make_shared<Entry>();
-      entry->placed = makePlacedPlant(plantSourceOf(f, t));
-      TrialConfig fitted = config;
-      fitCampaignSector(f, t, entry->placed, fitted);
-      entry->neighbours = rowNeighbourPlants(entry->placed, t.row_spacing_m, fitted);
-      entry->scene =
-          makePlantScene(entry->placed.plant, fitted.scene,
-                         static_cast<unsigned int>(fitted.threads), entry->neighbours);
-      promise.set_value(std::move(entry));
+      promise.set_value(makeSceneEntry(f, t, config));
     } catch (...) {
       promise.set_exception(std::current_exception());
       // Those waiting get the error; a later trial tries again.
@@ -606,13 +614,9 @@ void runCampaignTrial(const CampaignFile& f, const TrialSpec& t, TrialResult& re
                       CampaignSceneCache* cache)
 {
   TrialConfig config = campaignTrialConfig(f, t);
-  std::shared_ptr<const CampaignSceneCache::Entry> shared;
-  PlacedPlant own;
-  if (cache)
-    shared = cache->get(f, t, config);
-  else
-    own = makePlacedPlant(plantSourceOf(f, t));
-  const PlacedPlant& placed = shared ? shared->placed : own;
+  const std::shared_ptr<const CampaignSceneCache::Entry> shared =
+      cache ? cache->get(f, t, config) : makeSceneEntry(f, t, config);
+  const PlacedPlant& placed = shared->placed;
   fitCampaignSector(f, t, placed, config);
   const CampaignPlant& plant = f.definition.plants.at(t.plant_index);
   std::vector<EvaluationLevel> levels = evaluationLevels(placed);
@@ -637,12 +641,8 @@ void runCampaignTrial(const CampaignFile& f, const TrialSpec& t, TrialResult& re
   }
   Trial trial(config);
   setUpTrial(placed, attentionRoi(placed, attention), levels, trial);
-  if (shared) {
-    trial.setNeighbours(shared->neighbours);
-    trial.setScene(shared->scene);
-  } else {
-    trial.setNeighbours(rowNeighbourPlants(placed, t.row_spacing_m, config));
-  }
+  trial.setNeighbours(shared->neighbours);
+  trial.setScene(shared->scene);
   trial.setKeepFullMap(false); // a campaign keeps the steps and scores, not the map
   trial.run(result);
 }

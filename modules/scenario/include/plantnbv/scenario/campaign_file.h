@@ -69,7 +69,8 @@ public:
 
   /// \brief The entry of trial `t` of `f` (its config: campaignTrialConfig), made on the
   /// first call for its plant, variant, yaw, row and scene. \throws what making it
-  /// throws (then, the same to every trial that asks for it).
+  /// throws, to the trials that wait for that build; a failed entry is not kept, and
+  /// the next trial that asks makes it again.
   std::shared_ptr<const Entry> get(const CampaignFile& f, const TrialSpec& t,
                                    const TrialConfig& config);
 
@@ -82,7 +83,8 @@ private:
 };
 
 /// \brief Runs trial `t` of `f`: its own map, on one thread; its plant, neighbours and
-/// scene from `cache` when given (the same results), else its own.
+/// scene from `cache` when given (the same results), else made for it alone (the scene
+/// then outside the trial's setup_ms, as with the cache).
 /// \throws the errors of the plant's files and of the trial.
 void runCampaignTrial(const CampaignFile& f, const TrialSpec& t, TrialResult& result,
                       CampaignSceneCache* cache = nullptr);
