@@ -10,6 +10,7 @@
 #include <pcl/point_types.h>
 
 #include <plantnbv/common/error.h>
+#include <plantnbv/experiment/plant_scene.h>
 #include <plantnbv/experiment/trial.h>
 #include <plantnbv/planning/view_planner.h>
 #include <plantnbv/plant/plant_rois.h>
@@ -204,6 +205,79 @@ TEST(Trial, WithoutTheFullMapTheStepsAndScoresAreTheFullMaps)
     EXPECT_LT(part->getMap().countVoxels().free,
               full->getMap().countVoxels().free / (plans_read_roi_only ? 2 : 1));
   }
+}
+
+TEST(Trial, TrialsThatStartAlikeTakeTheMapAfterV0FromTheCacheWithTheSameResults)
+{
+  // The same scene, camera, v0, map parameters and update region give the same map
+  // after v0: a trial then takes a copy of an earlier one's (no capture), and its steps
+  // and scores equal those of the trial on its own.
+  const auto plant = plantAt(3, 30.0);
+  const SensorScene::ConstPtr scene = makePlantScene(*plant);
+  const auto cache = std::make_shared<InitialViewCache>();
+  struct Case {
+    PlannerKind planner;
+    Roi attention;
+    bool keep_full_map;
+    double depth_scale;
+    bool noise;
+    bool from_cache;  ///< v0's map is an earlier case's
+    std::size_t kept; ///< maps in the cache afterwards
+  };
+  const Case cases[] = {
+      {PlannerKind::nbv, wholePlantRoi(*plant), false, 0.0, false, false, 1},
+      {PlannerKind::random, wholePlantRoi(*plant), false, 0.0, false, true, 1},
+      {PlannerKind::predefined, wholePlantRoi(*plant), false, 0.0, false, true, 1},
+      // Another ROI, another update region.
+      {PlannerKind::nbv, leafNodeRoi(*plant), false, 0.0, false, false, 2},
+      // The full map (no region), then from it.
+      {PlannerKind::nbv, leafNodeRoi(*plant), true, 0.0, false, false, 3},
+      {PlannerKind::random, mainStemRoi(*plant), true, 0.0, false, true, 3},
+      // Depth rounded: another frame.
+      {PlannerKind::nbv, wholePlantRoi(*plant), false, 1000.0, false, false, 4},
+      // Noise: every frame its own.
+      {PlannerKind::nbv, wholePlantRoi(*plant), false, 0.0, true, false, 4},
+  };
+  for (const Case& k : cases) {
+    TrialConfig config = smallConfig(k.planner, 3);
+    config.seed = 5;
+    config.depth_scale = k.depth_scale;
+    config.noise.enabled = k.noise;
+    auto run = [&](const InitialViewCache::Ptr& initial_views) {
+      const auto trial = setUpTrial(config, plant, k.attention);
+      trial->setScene(scene);
+      trial->setKeepFullMap(k.keep_full_map);
+      trial->setInitialViewCache(initial_views);
+      TrialResult result;
+      trial->run(result);
+      return result;
+    };
+    const TrialResult alone = run(nullptr);
+    const TrialResult shared = run(cache);
+    SCOPED_TRACE(std::string(plannerKindName(k.planner)) + " " +
+                 k.attention.boxes().front().name + (k.keep_full_map ? " full" : ""));
+    expectSameSteps(alone, shared);
+    ASSERT_FALSE(shared.steps.empty());
+    if (k.from_cache) {
+      EXPECT_EQ(shared.steps[0].capture_ms, 0.0);
+    } else {
+      EXPECT_GT(shared.steps[0].capture_ms, 0.0);
+    }
+    EXPECT_EQ(cache->size(), k.kept);
+  }
+  // Another scene (of the same plant) is not the same scene; with room for one map, the
+  // last one stays.
+  const auto one = std::make_shared<InitialViewCache>(1);
+  for (int i = 0; i < 2; ++i) {
+    const auto trial = setUpTrial(smallConfig(PlannerKind::random, 1), plant, Roi());
+    trial->setScene(makePlantScene(*plant));
+    trial->setInitialViewCache(one);
+    TrialResult result;
+    trial->run(result);
+    EXPECT_GT(result.steps.at(0).capture_ms, 0.0);
+  }
+  EXPECT_EQ(one->size(), 1u);
+  EXPECT_THROW(InitialViewCache(0), InvalidArgumentError);
 }
 
 TEST(Trial, KeepsTheFullMapWhereItsReadsAreNotKnownBeforehand)

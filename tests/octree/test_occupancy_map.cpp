@@ -18,11 +18,13 @@
 #include <plantnbv/common/random.h>
 #include <plantnbv/common/voxel_lattice.h>
 #include <plantnbv/octree/occupancy_map.h>
+#include <plantnbv/octree/occupancy_map_snapshot.h>
 #include <plantnbv/octree/octree_conversion.h>
 #include <plantnbv/octree/update_region.h>
 
 using plantnbv::CloudXYZ;
 using plantnbv::OccupancyMap;
+using plantnbv::OccupancyMapSnapshot;
 using plantnbv::OccupiedVoxelOptions;
 using plantnbv::VoxelState;
 
@@ -780,6 +782,47 @@ TEST(OccupancyMap, SameMapWithAnyThreadCount)
   expectSameTree(one.getOcTree(), two.getOcTree());
   expectSameTree(one.getOcTree(), three.getOcTree());
   EXPECT_THROW(one.setNumberOfThreads(-1), plantnbv::InvalidArgumentError);
+}
+
+TEST(OccupancyMap, ASnapshotRestoresTheSameMapThatTheSameFramesKeepTheSame)
+{
+  // A restored snapshot has the map's tree node for node, its parameters, threads and
+  // region; the same frames then make the same map in both, and a frame into the
+  // restored map leaves the original as it was. An empty map restores empty.
+  plantnbv::Rng rng(8);
+  OccupancyMap::Config config;
+  config.resolution_m = 0.01;
+  config.prob_hit = 0.8;
+  const Eigen::Vector3d origin(0.1, 0.2, 0.3);
+  const plantnbv::Box bounds(origin, Eigen::Vector3d::Constant(1.0));
+  auto region = std::make_shared<plantnbv::UpdateRegion>(config.resolution_m, bounds);
+  region->addBox(plantnbv::Box(origin, Eigen::Vector3d::Constant(0.3)));
+  OccupancyMap map(config);
+  map.setNumberOfThreads(2);
+  map.setUpdateRegion(region);
+  const OccupancyMapSnapshot empty(map);
+  EXPECT_EQ(empty.nodeBytes(), 0u);
+  EXPECT_EQ(empty.restore()->getOcTree().size(), 0u);
+
+  map.insert(randomFrame(rng, origin, 0.01, 0.75, 6000), origin);
+  const OccupancyMapSnapshot snapshot(map);
+  EXPECT_EQ(snapshot.nodeBytes(), 5 * map.getOcTree().size());
+  const std::unique_ptr<OccupancyMap> copy = snapshot.restore();
+  expectSameTree(map.getOcTree(), copy->getOcTree());
+  EXPECT_EQ(copy->getConfig().prob_hit, 0.8);
+  EXPECT_EQ(copy->getNumberOfThreads(), 2);
+  EXPECT_EQ(copy->getUpdateRegion(), region);
+
+  const Eigen::Vector3d next = origin + Eigen::Vector3d(0.05, -0.02, 0.0);
+  const CloudXYZ frame = randomFrame(rng, next, 0.01, 0.75, 6000);
+  const OccupancyMap::VoxelCounts before = map.countVoxels();
+  copy->insert(frame, next);
+  EXPECT_EQ(map.countVoxels().free, before.free); // the original is its own
+  EXPECT_EQ(map.countVoxels().occupied, before.occupied);
+  map.insert(frame, next);
+  expectSameTree(map.getOcTree(), copy->getOcTree());
+  EXPECT_GT(map.countVoxels().known(), before.known());
+  expectSameTree(map.getOcTree(), OccupancyMapSnapshot(map).restore()->getOcTree());
 }
 
 TEST(OccupancyMap, EqualsOctoMapBelowLargePrunedNodes)

@@ -328,11 +328,11 @@ TEST(CampaignFile, TrialsOfOnePlantAndPoseShareTheirSceneWithTheSameResults)
       "12}}\n"
       "studies:\n"
       "  - name: main\n    planners: [{type: nbv, attention: leaf-nodes}, {type: "
-      "random}]\n"
+      "random}, {type: predefined, patterns: [2]}]\n"
       "  - name: row\n    row_spacings: [0.3]\n    planners: [{type: random}]\n",
       "t.yaml");
   std::vector<TrialSpec> specs = expandCampaign(f.definition);
-  ASSERT_EQ(specs.size(), 6u);
+  ASSERT_EQ(specs.size(), 8u);
   // Grouped by plant, variant, yaw and row, in their order otherwise.
   std::vector<std::string> ids;
   for (const TrialSpec& t : specs)
@@ -351,15 +351,21 @@ TEST(CampaignFile, TrialsOfOnePlantAndPoseShareTheirSceneWithTheSameResults)
   }
 
   // Four scenes (two yaws, alone and in a row), each made once; every trial as without.
+  // The baselines of a yaw attend to the whole plant: the second starts from the
+  // first's v0 (no capture).
   CampaignSceneCache cache(2);
+  std::size_t v0_shared = 0;
   for (const TrialSpec& t : specs) {
     TrialResult own, shared;
     runCampaignTrial(f, t, own);
     runCampaignTrial(f, t, shared, &cache);
     SCOPED_TRACE(t.id);
     expectSameResults(own, shared);
+    EXPECT_GT(own.steps.at(0).capture_ms, 0.0);
+    v0_shared += shared.steps.at(0).capture_ms == 0.0;
   }
   EXPECT_EQ(cache.builds(), 4u);
+  EXPECT_EQ(v0_shared, 2u);
   // Ungrouped, with room for one scene, each change of scene makes it again.
   CampaignSceneCache one(1);
   const std::vector<TrialSpec> in_file_order = expandCampaign(f.definition);

@@ -44,6 +44,26 @@ std::string roiClassName(const Roi& roi)
   return name.empty() ? "roi" : name;
 }
 
+/// Everything the map after v0 depends on besides the scene and the update region,
+/// exactly (doubles in hex): the first frame (camera at `v0`, depth rounding) and the
+/// map's parameters.
+std::string initialViewKey(const TrialConfig& c, const Viewpoint& v0)
+{
+  std::ostringstream k;
+  const CameraIntrinsics& cam = c.camera;
+  k << std::hexfloat << cam.width << ' ' << cam.height << ' ' << cam.fx << ' ' << cam.fy
+    << ' ' << cam.cx << ' ' << cam.cy << ' ' << cam.min_range_m << ' ' << cam.max_range_m;
+  k << " v0";
+  for (double x : {v0.position.x(), v0.position.y(), v0.position.z(), v0.orientation.w(),
+                   v0.orientation.x(), v0.orientation.y(), v0.orientation.z()})
+    k << ' ' << x;
+  const OccupancyMap::Config& m = c.map;
+  k << " map " << m.resolution_m << ' ' << m.prob_hit << ' ' << m.prob_miss << ' '
+    << m.clamp_min << ' ' << m.clamp_max << ' ' << m.occupancy_threshold << ' '
+    << m.max_range_m << " depth_scale " << c.depth_scale;
+  return k.str();
+}
+
 ViewPlanner::Ptr makePlanner(const TrialConfig& c, const Roi& exploration)
 {
   switch (c.planner) {
@@ -340,6 +360,10 @@ bool Trial::runOnce(TrialResult& result, bool with_region)
   // The prior: leaf nodes along the stem, the detected ones added to them.
   const LeafNodePrior prior(c.roi_source.priorConfig());
   map_ = session.getMap();
+  // v0's map from initial_views_ where the frame is not needed otherwise (the same
+  // scene, frame, map parameters and region give the same map).
+  const bool share_v0 =
+      initial_views_ && scene_ && !c.noise.enabled && !frame_callback_ && !detecting;
   // Frames that a plan reads go exactly into the voxels it reads and those a frame can
   // make occupied; the last frame, read by the scores only (the occupied voxels), into
   // the latter.
@@ -385,23 +409,39 @@ bool Trial::runOnce(TrialResult& result, bool with_region)
     }
     step.view = view;
 
-    Stopwatch capture_clock;
-    sensor.setFrameIndex(static_cast<std::uint64_t>(index));
-    sensor.capture(view, frame,
-                   rounded_depth || frame_callback_ || detecting ? &depth : nullptr);
-    step.capture_ms = capture_clock.ms();
-
-    Stopwatch insert_clock;
     if (surface && index + 1 == c.views)
       map_->setUpdateRegion(surface);
     const Pose T_W_O = opticalFrame(view); // a frames folder reads it back bit for bit
-    if (rounded_depth) {
-      roundDepthToUnits(depth, c.depth_scale);
-      session.integrate(depth, c.camera, T_W_O);
-    } else {
-      session.integrate(frame, view.position);
+    std::string v0_key;
+    std::unique_ptr<OccupancyMap> shared_v0;
+    Stopwatch share_clock;
+    if (index == 0 && share_v0) {
+      v0_key = initialViewKey(c, view);
+      shared_v0 = initial_views_->find(scene_, v0_key, map_->getUpdateRegion().get());
     }
-    step.insert_ms = insert_clock.ms();
+    if (shared_v0) { // v0 as another trial integrated it (all its hits in the region)
+      session.setMap(std::move(shared_v0));
+      map_ = session.getMap();
+      session.getPlanner().addVisitedPosition(T_W_O.position); // as integrate() does
+      step.insert_ms = share_clock.ms();
+    } else {
+      Stopwatch capture_clock;
+      sensor.setFrameIndex(static_cast<std::uint64_t>(index));
+      sensor.capture(view, frame,
+                     rounded_depth || frame_callback_ || detecting ? &depth : nullptr);
+      step.capture_ms = capture_clock.ms();
+
+      Stopwatch insert_clock;
+      if (rounded_depth) {
+        roundDepthToUnits(depth, c.depth_scale);
+        session.integrate(depth, c.camera, T_W_O);
+      } else {
+        session.integrate(frame, T_W_O.position);
+      }
+      if (!v0_key.empty() && map_->getLastInsertStats().hits_outside_region == 0)
+        initial_views_->add(scene_, v0_key, *map_);
+      step.insert_ms = insert_clock.ms();
+    }
     if (map_->getUpdateRegion() && map_->getLastInsertStats().hits_outside_region > 0)
       return false;
     if (detecting) { // the depth as integrated: a frames folder replays to this ROI

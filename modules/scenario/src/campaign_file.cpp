@@ -544,6 +544,7 @@ makeSceneEntry(const CampaignFile& f, const TrialSpec& t, const TrialConfig& con
   entry->scene =
       makePlantScene(entry->placed.plant, fitted.scene,
                      static_cast<unsigned int>(fitted.threads), entry->neighbours);
+  entry->initial_views = std::make_shared<InitialViewCache>();
   return entry;
 }
 
@@ -643,6 +644,7 @@ void runCampaignTrial(const CampaignFile& f, const TrialSpec& t, TrialResult& re
   setUpTrial(placed, attentionRoi(placed, attention), levels, trial);
   trial.setNeighbours(shared->neighbours);
   trial.setScene(shared->scene);
+  trial.setInitialViewCache(shared->initial_views);
   trial.setKeepFullMap(false); // a campaign keeps the steps and scores, not the map
   trial.run(result);
 }

@@ -17,6 +17,7 @@
 #include <plantnbv/common/error.h>
 #include <plantnbv/common/memory_cap.h>
 #include <plantnbv/common/pose.h>
+#include <plantnbv/experiment/initial_view_cache.h>
 #include <plantnbv/experiment/plant_scene.h>
 #include <plantnbv/experiment/reconstruction_evaluator.h>
 #include <plantnbv/octree/occupancy_map.h>
@@ -211,6 +212,16 @@ public:
   /// campaign's scenario::CampaignSceneCache). run() cannot check that it shows its
   /// plant. Null (default): run() builds it.
   void setScene(SensorScene::ConstPtr scene) { scene_ = std::move(scene); }
+  /// \brief Where run() finds the map after v0 of an earlier trial that started alike
+  /// (the same scene from setScene, camera, v0, map parameters, depth rounding and
+  /// update region) and takes a copy instead of capturing and integrating v0, and where
+  /// it leaves its own: the same steps and scores (v0's capture_ms is then 0, its
+  /// insert_ms the copy). Used only with a scene from setScene and without noise,
+  /// frame callback or detections. Null (default): none.
+  void setInitialViewCache(InitialViewCache::Ptr cache)
+  {
+    initial_views_ = std::move(cache);
+  }
   /// \brief The attention ROI of the NBV planner (also used to report the gain of the
   /// baselines' views), before TrialConfig::roi_source. Empty: every voxel counts (plain
   /// volumetric NBV).
@@ -274,6 +285,7 @@ private:
   std::shared_ptr<const Plant> plant_;
   NeighbourPlants neighbours_;
   SensorScene::ConstPtr scene_;
+  InitialViewCache::Ptr initial_views_;
   Roi attention_;
   Roi exploration_;
   Roi attended_;

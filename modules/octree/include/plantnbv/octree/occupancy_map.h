@@ -233,6 +233,8 @@ public:
   void write(const std::string& path) const;
 
 private:
+  friend class OccupancyMapSnapshot; // restores a tree into a new map
+
   template <typename PointT>
   void insertImpl(const pcl::PointCloud<PointT>& points_W,
                   const Eigen::Vector3d& sensor_origin_W);

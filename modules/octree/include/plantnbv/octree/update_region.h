@@ -3,6 +3,7 @@
 /// \brief UpdateRegion: the voxels whose state a caller of OccupancyMap will read, so
 /// that `insert` can leave out free space that nobody reads.
 
+#include <algorithm>
 #include <cstddef>
 #include <cstdint>
 #include <vector>
@@ -68,6 +69,15 @@ public:
   {
     return containsBrick(kx >> kBrickShift, ky >> kBrickShift, kz >> kBrickShift);
   }
+  /// \brief Whether both hold the same bricks over the same bounds at the same
+  /// resolution (then `insert` updates the same voxels with either).
+  bool operator==(const UpdateRegion& other) const
+  {
+    return resolution() == other.resolution() && std::equal(lo_, lo_ + 3, other.lo_) &&
+           std::equal(n_, n_ + 3, other.n_) && bits_ == other.bits_;
+  }
+  /// \brief Not operator==.
+  bool operator!=(const UpdateRegion& other) const { return !(*this == other); }
   /// \brief The voxel edge (metres) of the lattice the region is made for.
   double resolution() const { return lattice_.resolution(); }
   /// \brief The bricks of the bounds that are in the region (at most bricksOver).

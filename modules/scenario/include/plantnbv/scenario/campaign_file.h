@@ -61,6 +61,9 @@ public:
     PlacedPlant placed;          ///< the plant as its trials get it
     NeighbourPlants neighbours;  ///< its row (none without row spacing)
     SensorScene::ConstPtr scene; ///< makePlantScene of both, committed
+    /// The maps after v0 of its trials (Trial::setInitialViewCache): trials that
+    /// differ only in their planner or candidates start from one v0.
+    InitialViewCache::Ptr initial_views;
   };
 
   /// \param[in] capacity entries kept (>= 1).
