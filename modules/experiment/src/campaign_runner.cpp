@@ -14,8 +14,9 @@ namespace plantnbv {
 LocalRunner::LocalRunner(const ResultStore& store, TrialFunction run_trial, int workers)
     : store_(store), run_trial_(std::move(run_trial)), workers_(workers)
 {
-  if (workers < 0)
-    throw InvalidArgumentError("workers: " + std::to_string(workers) + ", expected >= 0");
+  if (workers_ < 0)
+    throw InvalidArgumentError("workers: " + std::to_string(workers_) +
+                               ", expected >= 0");
   if (workers_ == 0)
     workers_ = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
 }

@@ -58,15 +58,11 @@ std::unique_ptr<OccupancyMap> InitialViewCache::find(const SensorScene::ConstPtr
 void InitialViewCache::add(const SensorScene::ConstPtr& scene, const std::string& key,
                            const OccupancyMap& map)
 {
-  const UpdateRegion* region = map.getUpdateRegion().get();
-  {
-    std::lock_guard<std::mutex> lock(impl_->mutex);
-    if (impl_->findLocked(scene.get(), key, region))
-      return;
-  }
+  // Taken outside the lock; callers add after find() missed, so a map kept meanwhile
+  // (two trials starting together) is rare and its snapshot simply dropped.
   auto snapshot = std::make_shared<const OccupancyMapSnapshot>(map);
   std::lock_guard<std::mutex> lock(impl_->mutex);
-  if (impl_->findLocked(scene.get(), key, region)) // added meanwhile
+  if (impl_->findLocked(scene.get(), key, map.getUpdateRegion().get()))
     return;
   impl_->entries.push_front({scene, key, std::move(snapshot)});
   if (impl_->entries.size() > impl_->capacity)
