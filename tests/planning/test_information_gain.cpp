@@ -531,6 +531,60 @@ TEST(InformationGain, UnknownOnlyCountsNeverObservedVoxelsByHand)
   expectGain(std::pow(1.0 - p_free, 5) * (1.0 + 0.5 + 0.25), "unknown only, weighted");
 }
 
+TEST(InformationGain, WithUnknownOnlyARayEndsAtTheLastUnknownVoxelItCounts)
+{
+  // lineWithAHitAt5; the gain's ray starts in voxel -4 and looks along +x to the centre
+  // of voxel 5: -4..-1 unknown, 0..4 free, 5 occupied; the ROI holds voxels -2..3.
+  const int k0 = kLineK0;
+  const double y = kLineY, z = kLineZ;
+  const auto map = lineWithAHitAt5();
+  const double p_free = map->probability(Eigen::Vector3d(centre(k0), y, z));
+  ASSERT_NEAR(p_free, 0.4, 1e-6);
+  ASSERT_EQ(map->probability(Eigen::Vector3d(centre(k0 - 1), y, z)), 0.5);
+
+  GainConfig config = GainConfig::paper();
+  config.rays_x = config.rays_y = 1;
+  config.raycast_range_m = 9 * kRes;
+  const Roi roi({Box(Eigen::Vector3d(0.5 * (centre(k0 - 2) + centre(k0 + 3)), y, z),
+                     Eigen::Vector3d(5 * kRes + 1e-6, 1e-6, 1e-6))});
+  const Viewpoint view = lookingAlong(Eigen::Vector3d(centre(k0 - 4), y, z), 0.0);
+  InformationGain gain;
+  gain.setInputMap(map);
+  gain.setRoi(roi);
+  auto expectGain = [&](std::size_t seen, std::size_t unknown, double bits,
+                        const std::string& what) {
+    gain.setConfig(config);
+    const ViewGain g = gain.compute(view);
+    const ViewGain ref = referenceInformationGain(*map, roi, config, view);
+    EXPECT_EQ(g.voxels_seen, seen) << what;
+    EXPECT_EQ(ref.voxels_seen, seen) << what;
+    EXPECT_EQ(g.unknown_seen, unknown) << what;
+    EXPECT_EQ(ref.unknown_seen, unknown) << what;
+    EXPECT_NEAR(g.gain, bits, 1e-12) << what;
+    EXPECT_NEAR(ref.gain, bits, 1e-12) << what;
+  };
+  // The paper's entropy: the free voxels behind the unknown one still count.
+  config.unknown_depth = 1;
+  expectGain(5, 1, 1.0 + 4.0 * occupancyEntropy(p_free), "paper's entropy, depth 1");
+  // Unknown only: nothing behind the last unknown voxel the ray may count adds to the
+  // gain, and the ray ends there, weighted or not.
+  config.unknown_only = true;
+  for (bool weighted : {false, true}) {
+    config.visibility_weighted = weighted;
+    const std::string how = weighted ? ", weighted" : "";
+    // Weighted, the unknown voxels -4 and -3 before the ROI pass half each: -2 is seen
+    // with 0.25, -1 with 0.125.
+    config.unknown_depth = 1;
+    expectGain(1, 1, weighted ? 0.25 : 1.0, "depth 1" + how);
+    config.unknown_depth = 2;
+    expectGain(2, 2, weighted ? 0.25 + 0.125 : 2.0, "depth 2" + how);
+    // A budget the ray does not spend: it goes on through the free voxels 0..3, to the
+    // occupied voxel 5 unweighted and to its end weighted.
+    config.unknown_depth = 3;
+    expectGain(6, 2, weighted ? 0.25 + 0.125 : 2.0, "depth 3" + how);
+  }
+}
+
 TEST(InformationGain, WeightedUnknownOnlyAndDepthEqualTheReferenceOnAPlantMap)
 {
   const auto map = test::plantMap();

@@ -362,6 +362,13 @@ int unknownDepth(const GainConfig& config)
                                   : std::numeric_limits<int>::max();
 }
 
+/// Whether a ray ends at the last unknown ROI voxel it may count: with unknown_only
+/// nothing behind it adds to the gain (known voxels are worth 0 bits).
+bool raysEndAtUnknownDepth(const GainConfig& config)
+{
+  return config.unknown_only && config.unknown_depth > 0;
+}
+
 // --- the general kernel (no ROI, or visibility weighting) ------------------------------
 
 /// Walks one ray's voxels with the shared traversal: looks each up in the snapshot,
@@ -372,10 +379,11 @@ struct RayWalker {
   const Value* values;
   VoxelSet& set;
   std::uint32_t* counts;
-  int unknown_left; ///< unknown ROI voxels the ray may still count
+  int unknown_left;   ///< unknown ROI voxels the ray may still count
+  bool ends_at_depth; ///< the ray ends when unknown_left reaches 0
   double t_stop = std::numeric_limits<double>::infinity();
   double vis = 1.0;
-  bool stopped = false; ///< at an occupied voxel
+  bool stopped = false; ///< at an occupied voxel (unweighted) or its last unknown one
   bool clipped = false; ///< past the ROI
 
   bool begin(int kx, int ky, int kz, const int* /*step*/) { return visit(kx, ky, kz); }
@@ -392,13 +400,12 @@ struct RayWalker {
   bool visit(int kx, int ky, int kz)
   {
     const unsigned c = bricks.code(kx, ky, kz);
-    const bool counts_here =
-        (c & kInRoi) && (c >> kValueShift != 0 || unknown_left-- > 0);
+    const bool unknown_in_roi = (c & kInRoi) && c >> kValueShift == 0;
+    const bool counts_here = (c & kInRoi) && (!unknown_in_roi || unknown_left-- > 0);
     if constexpr (kWeighted) {
       if (counts_here)
         set.insertMax(kx, ky, kz, vis);
       vis *= values[c >> kValueShift].free_prob;
-      return true;
     } else {
       if (counts_here && set.insert(kx, ky, kz))
         ++counts[c >> kValueShift];
@@ -406,8 +413,12 @@ struct RayWalker {
         stopped = true;
         return false;
       }
-      return true;
     }
+    if (ends_at_depth && unknown_in_roi && unknown_left == 0) {
+      stopped = true;
+      return false;
+    }
+    return true;
   }
 };
 
@@ -459,8 +470,12 @@ ViewGain computeGeneral(const Snapshot& snap, const Bricks<CodeT>& bricks,
     int key_end[3];
     if (!snap.lattice.coordToKey(end, key_end))
       continue;
-    RayWalker<CodeT, kWeighted> walker{bricks, snap.values.data(), scratch.voxels,
-                                       scratch.counts.data(), unknownDepth(config)};
+    RayWalker<CodeT, kWeighted> walker{bricks,
+                                       snap.values.data(),
+                                       scratch.voxels,
+                                       scratch.counts.data(),
+                                       unknownDepth(config),
+                                       raysEndAtUnknownDepth(config)};
     if (snap.roi_mode) {
       walker.t_stop = clipDistance(snap, Segment(origin, end));
       if (walker.t_stop < 0.0)
@@ -535,16 +550,18 @@ PLANTNBV_ALWAYS_INLINE void loadBrick(const Bricks<CodeT>& bricks, RoiSeen& seen
 }
 
 /// Visits a voxel of the cursor's brick: counts it if it is in the ROI and new (an
-/// unknown one only while the ray's `unknown_left` lasts); false if it is occupied (the
-/// ray stops after it).
+/// unknown one only while the ray's `unknown_left` lasts); false if the ray ends after
+/// it: an occupied voxel, or with `ends_at_depth` the last unknown one it may count.
 template <typename CodeT>
 PLANTNBV_ALWAYS_INLINE bool visitVoxel(const Cursor<CodeT>& c, std::uint32_t* counts,
-                                       int& unknown_left, int kx, int ky, int kz)
+                                       int& unknown_left, bool ends_at_depth, int kx,
+                                       int ky, int kz)
 {
   const int local = brickLocal(kx, ky, kz);
   const unsigned code = c.voxels[local];
   if (code & kInRoi) {
-    if (code >> kValueShift == 0) { // unknown
+    const bool unknown = code >> kValueShift == 0;
+    if (unknown) {
       if (unknown_left == 0)
         return true; // deeper than GainConfig::unknown_depth on this ray
       --unknown_left;
@@ -555,6 +572,8 @@ PLANTNBV_ALWAYS_INLINE bool visitVoxel(const Cursor<CodeT>& c, std::uint32_t* co
       word |= bit;
       ++counts[code >> kValueShift];
     }
+    if (unknown && ends_at_depth && unknown_left == 0)
+      return false;
   }
   return !(code & kOccupied);
 }
@@ -628,6 +647,7 @@ ViewGain computeFast(const Snapshot& snap, const Bricks<CodeT>& bricks,
   const double res = snap.lattice.resolution();
   // Jumps stop this far (metres) short of the next brick that matters.
   const double margin = rt::kJumpMarginVoxels * res;
+  const bool ends_at_depth = raysEndAtUnknownDepth(config);
   // The table's bricks in metres.
   Eigen::Vector3d table_lo, table_hi;
   for (int a = 0; a < 3; ++a) {
@@ -659,7 +679,8 @@ ViewGain computeFast(const Snapshot& snap, const Bricks<CodeT>& bricks,
     if (!rt::setupRay(origin, end, key_origin, key_end, snap.lattice, s)) {
       Cursor<CodeT> cursor;
       loadBrick(bricks, seen, key_end[0], key_end[1], key_end[2], cursor); // one voxel
-      visitVoxel(cursor, counts, unknown_left, key_end[0], key_end[1], key_end[2]);
+      visitVoxel(cursor, counts, unknown_left, ends_at_depth, key_end[0], key_end[1],
+                 key_end[2]);
       continue;
     }
     double tx = s.t_max[0], ty = s.t_max[1], tz = s.t_max[2];
@@ -706,8 +727,8 @@ ViewGain computeFast(const Snapshot& snap, const Bricks<CodeT>& bricks,
       loadBrick(bricks, seen, kx, ky, kz, cursor); // its voxel lies outside the table
     } else {
       loadBrick(bricks, seen, kx, ky, kz, cursor);
-      if (!visitVoxel(cursor, counts, unknown_left, kx, ky, kz))
-        continue; // the camera's voxel is occupied
+      if (!visitVoxel(cursor, counts, unknown_left, ends_at_depth, kx, ky, kz))
+        continue; // the ray ends at the camera's voxel
     }
     bool reached_end = false;
     for (;;) {
@@ -747,12 +768,13 @@ ViewGain computeFast(const Snapshot& snap, const Bricks<CodeT>& bricks,
           continue;
         }
       }
-      if (!cursor.empty && !visitVoxel(cursor, counts, unknown_left, kx, ky, kz))
-        break; // occupied
+      if (!cursor.empty &&
+          !visitVoxel(cursor, counts, unknown_left, ends_at_depth, kx, ky, kz))
+        break; // occupied, or the last unknown voxel the ray may count
     }
     if (reached_end) {
       loadBrick(bricks, seen, ex, ey, ez, cursor);
-      visitVoxel(cursor, counts, unknown_left, ex, ey, ez);
+      visitVoxel(cursor, counts, unknown_left, ends_at_depth, ex, ey, ez);
     }
   }
 

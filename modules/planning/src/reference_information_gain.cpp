@@ -55,11 +55,13 @@ ViewGain referenceInformationGain(const OccupancyMap& map, const Roi& roi,
     int unknown_left = config.unknown_depth > 0 ? config.unknown_depth : -1;
     for (const octomap::OcTreeKey& key : keys) {
       const octomap::OcTreeNode* node = tree.search(key);
-      // An unknown ROI voxel deeper than unknown_depth on this ray does not count.
-      bool counts = true;
+      // An unknown ROI voxel deeper than unknown_depth on this ray does not count; with
+      // unknown_only the ray ends at the last one that does.
+      bool counts = true, last = false;
       if (!node && unknown_left >= 0 && inRoi(key)) {
         counts = unknown_left > 0;
         unknown_left -= counts ? 1 : 0;
+        last = counts && unknown_left == 0 && config.unknown_only;
       }
       if (weighted) {
         if (counts) {
@@ -74,6 +76,8 @@ ViewGain referenceInformationGain(const OccupancyMap& map, const Roi& roi,
         if (node && tree.isNodeOccupied(node))
           break; // it counts, nothing behind it does
       }
+      if (last)
+        break;
     }
   }
 

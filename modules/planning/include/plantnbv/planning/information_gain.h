@@ -53,7 +53,9 @@ struct GainConfig {
   /// the ROI (known ones still count); deeper ones are likely hidden behind the
   /// surface the ray would meet first. Without it, a ray that grazes a large unknown
   /// ROI counts hundreds of voxels, and the gain favours views along the ROI's long
-  /// axis over views that would see new surface (docs/planning.md). Default 3, chosen by
+  /// axis over views that would see new surface (docs/planning.md). With unknown_only
+  /// a ray ends at its unknown_depth-th (nothing behind it can add to the gain), so
+  /// ViewGain::voxels_seen leaves out the known voxels behind it. Default 3, chosen by
   /// the main study; 0 (the paper's): no limit.
   int unknown_depth = 3;
 
@@ -85,7 +87,8 @@ struct ViewGain {
 /// excluded; origin and end in single precision as OctoMap has them) followed by the end
 /// voxel; walked in order, each joins X_v (an unknown voxel of the ROI only among the
 /// ray's first unknown_depth), and an occupied voxel (probability > the map's
-/// threshold) stops the ray after it. Then
+/// threshold) stops the ray after it, as does, with unknown_only, its unknown_depth-th
+/// unknown voxel of the ROI. Then
 ///   G_v = sum over distinct voxels x of X_v whose centre lies in the ROI of H(p(x)),
 /// H = occupancyEntropy, p = the map's probability (unknown: 0.5, 1 bit). An empty ROI
 /// counts every voxel (the paper's plain NBV). With visibility_weighted each term is
