@@ -69,6 +69,29 @@ TEST(ActiveVisionSession, ADepthFrameGivesTheMapOfItsBackProjectedCloud)
   EXPECT_EQ(from_depth.getPlanner().getVisitedPositions().size(), 1u);
 }
 
+TEST(ActiveVisionSession, AMapThatHoldsAFrameLeavesTheSessionAsIntegratingIt)
+{
+  const CameraIntrinsics K = smallCamera();
+  const Pose T_W_O = opticalFrame(v0());
+  ActiveVisionSession integrated;
+  integrated.integrate(board(K, 0.4f), K, T_W_O);
+  // The same frame's map, made elsewhere (e.g. kept from another trial).
+  auto copy = std::make_shared<OccupancyMap>(ActiveVisionSession::Config().map);
+  CloudXYZ scratch;
+  integrateDepthFrame(*copy, board(K, 0.4f), K, T_W_O, scratch);
+  ActiveVisionSession adopted;
+  adopted.setMapWithFrame(copy, T_W_O.position);
+  EXPECT_EQ(adopted.getMap(), copy);
+  EXPECT_EQ(adopted.getPlanner().getVisitedPositions(),
+            integrated.getPlanner().getVisitedPositions());
+  NextBestView a, b;
+  integrated.nextBestView(a);
+  adopted.nextBestView(b);
+  EXPECT_EQ(a.result.chosen, b.result.chosen);
+  EXPECT_EQ(a.result.gain, b.result.gain);
+  EXPECT_THROW(adopted.setMapWithFrame(nullptr, T_W_O.position), InvalidArgumentError);
+}
+
 TEST(ActiveVisionSession, RanksTheCandidatesChosenFirstThenByGain)
 {
   ActiveVisionSession session;

@@ -420,9 +420,8 @@ bool Trial::runOnce(TrialResult& result, bool with_region)
       shared_v0 = initial_views_->find(scene_, v0_key, map_->getUpdateRegion().get());
     }
     if (shared_v0) { // v0 as another trial integrated it (all its hits in the region)
-      session.setMap(std::move(shared_v0));
+      session.setMapWithFrame(std::move(shared_v0), T_W_O.position);
       map_ = session.getMap();
-      session.getPlanner().addVisitedPosition(T_W_O.position); // as integrate() does
       step.insert_ms = share_clock.ms();
     } else {
       Stopwatch capture_clock;

@@ -103,7 +103,7 @@ void ActiveVisionSession::integrate(const DepthImage& depth,
                                     const CameraIntrinsics& intrinsics, const Pose& T_W_O)
 {
   integrateDepthFrame(*map_, depth, intrinsics, T_W_O, *frame_W_);
-  planner_->addVisitedPosition(T_W_O.position);
+  recordFrame(T_W_O.position);
 }
 
 void integrateDepthFrame(OccupancyMap& map, const DepthImage& depth,
@@ -119,14 +119,14 @@ void ActiveVisionSession::integrate(const CloudXYZ& cloud_W,
                                     const Eigen::Vector3d& origin_W)
 {
   map_->insert(cloud_W, origin_W);
-  planner_->addVisitedPosition(origin_W);
+  recordFrame(origin_W);
 }
 
 void ActiveVisionSession::integrate(const CloudXYZL& cloud_W,
                                     const Eigen::Vector3d& origin_W)
 {
   map_->insert(cloud_W, origin_W);
-  planner_->addVisitedPosition(origin_W);
+  recordFrame(origin_W);
 }
 
 void ActiveVisionSession::nextBestView(NextBestView& out)
@@ -142,6 +142,18 @@ void ActiveVisionSession::setMap(std::shared_ptr<OccupancyMap> map)
   map->setNumberOfThreads(config_.threads);
   planner_->setInputMap(map);
   map_ = std::move(map);
+}
+
+void ActiveVisionSession::setMapWithFrame(std::shared_ptr<OccupancyMap> map,
+                                          const Eigen::Vector3d& origin_W)
+{
+  setMap(std::move(map));
+  recordFrame(origin_W);
+}
+
+void ActiveVisionSession::recordFrame(const Eigen::Vector3d& origin_W)
+{
+  planner_->addVisitedPosition(origin_W);
 }
 
 bool ActiveVisionSession::readMap(const std::string& path)

@@ -130,6 +130,12 @@ public:
   /// \brief Replaces the map (e.g. one read from a file). \throws InvalidArgumentError
   /// if null.
   void setMap(std::shared_ptr<OccupancyMap> map);
+  /// \brief Replaces the map by one that holds the frames integrated so far and one more
+  /// seen from `origin_W` (e.g. a kept copy of that frame's integration): the session is
+  /// then as after integrate() of that frame, its origin recorded for the planner's view
+  /// spacing. \throws InvalidArgumentError if null.
+  void setMapWithFrame(std::shared_ptr<OccupancyMap> map,
+                       const Eigen::Vector3d& origin_W);
   /// \brief Reads a map (OccupancyMap::read with the config's map parameters).
   /// \return false if the file was a .bt (maximum likelihood: no uncertainty left).
   bool readMap(const std::string& path);
@@ -137,6 +143,9 @@ public:
   void writeMap(const std::string& path) const { map_->write(path); }
 
 private:
+  /// What every frame leaves besides the map: its origin, a visited position.
+  void recordFrame(const Eigen::Vector3d& origin_W);
+
   Config config_;
   CameraIntrinsics camera_;
   std::shared_ptr<OccupancyMap> map_;
