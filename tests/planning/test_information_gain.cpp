@@ -98,6 +98,14 @@ std::shared_ptr<OccupancyMap> lineWithAHitAt5()
   return map;
 }
 
+/// The ROI of the line's voxels first..last (keys kLineK0 + i).
+Roi lineVoxels(int first, int last)
+{
+  const double x = 0.5 * (centre(kLineK0 + first) + centre(kLineK0 + last));
+  return Roi({Box(Eigen::Vector3d(x, kLineY, kLineZ),
+                  Eigen::Vector3d((last - first) * kRes + 1e-6, 1e-6, 1e-6))});
+}
+
 /// One view per cell of the paper's sector (seeded), then the paper's v0.
 std::vector<Viewpoint> sectorViewsAndV0(std::uint64_t seed)
 {
@@ -457,8 +465,7 @@ TEST(InformationGain, VisibilityWeightedGainByHand)
   config.rays_x = config.rays_y = 1;
   config.raycast_range_m = 10 * kRes; // ends at the centre of voxel 10
   // The ROI holds voxels 3..8.
-  const Roi roi({Box(Eigen::Vector3d(0.5 * (centre(k0 + 3) + centre(k0 + 8)), y, z),
-                     Eigen::Vector3d(5 * kRes + 1e-6, 1e-6, 1e-6))});
+  const Roi roi = lineVoxels(3, 8);
   const Viewpoint view = lookingAlong(Eigen::Vector3d(centre(k0), y, z), 0.0);
 
   double by_hand = 0.0, vis = 1.0;
@@ -502,8 +509,7 @@ TEST(InformationGain, UnknownOnlyCountsNeverObservedVoxelsByHand)
   GainConfig config = GainConfig::paper();
   config.rays_x = config.rays_y = 1;
   config.raycast_range_m = 10 * kRes; // ends at the centre of voxel -6
-  const Roi roi({Box(Eigen::Vector3d(0.5 * (centre(k0 - 3) + centre(k0 + 2)), y, z),
-                     Eigen::Vector3d(5 * kRes + 1e-6, 1e-6, 1e-6))});
+  const Roi roi = lineVoxels(-3, 2);
   const Viewpoint view = lookingAlong(Eigen::Vector3d(centre(k0 + 4), y, z), M_PI);
   InformationGain gain;
   gain.setInputMap(map);
@@ -545,8 +551,7 @@ TEST(InformationGain, WithUnknownOnlyARayEndsAtTheLastUnknownVoxelItCounts)
   GainConfig config = GainConfig::paper();
   config.rays_x = config.rays_y = 1;
   config.raycast_range_m = 9 * kRes;
-  const Roi roi({Box(Eigen::Vector3d(0.5 * (centre(k0 - 2) + centre(k0 + 3)), y, z),
-                     Eigen::Vector3d(5 * kRes + 1e-6, 1e-6, 1e-6))});
+  const Roi roi = lineVoxels(-2, 3);
   const Viewpoint view = lookingAlong(Eigen::Vector3d(centre(k0 - 4), y, z), 0.0);
   InformationGain gain;
   gain.setInputMap(map);
