@@ -123,6 +123,42 @@ TEST(OctreeConversion, RoundTripKeepsTheVoxelSet)
   EXPECT_EQ(toSet(out), centres(voxels, res));
 }
 
+TEST(OctreeConversion, OccupiedCentresAreTheSameOnAnyNumberOfThreads)
+{
+  // Scattered voxels (many subtrees for the threads) and a full 64^3 block at keys
+  // 32768-32831, which the tree prunes into one leaf above the threads' subtrees.
+  plantnbv::Rng rng(5);
+  const double res = 0.01;
+  std::set<Voxel> voxels = randomVoxels(rng, 3000, 300);
+  for (long x = 0; x < 64; ++x)
+    for (long y = 0; y < 64; ++y)
+      for (long z = 0; z < 64; ++z)
+        voxels.insert({x, y, z});
+  const auto tree = plantnbv::cloudToOcTree(*pointsIn(voxels, res, rng), res);
+  for (const bool hold_max : {false, true}) {
+    OccupiedVoxelOptions options;
+    options.inner_nodes_hold_max = hold_max; // cloudToOcTree's inner nodes do
+    const CloudXYZ one = occupied(*tree, options);
+    ASSERT_EQ(one.size(), voxels.size());
+    for (const int threads : {2, 3, 0}) {
+      options.threads = threads;
+      const CloudXYZ many = occupied(*tree, options);
+      ASSERT_EQ(many.size(), one.size()) << threads;
+      EXPECT_EQ(many.width, one.size());
+      std::size_t differ = 0;
+      for (std::size_t i = 0; i < one.size(); ++i)
+        differ +=
+            !(many[i].x == one[i].x && many[i].y == one[i].y && many[i].z == one[i].z);
+      EXPECT_EQ(differ, 0u) << threads << " threads";
+    }
+  }
+  OccupiedVoxelOptions negative;
+  negative.threads = -1;
+  CloudXYZ cloud;
+  EXPECT_THROW(plantnbv::occupiedVoxelCentres(*tree, cloud, negative),
+               plantnbv::InvalidArgumentError);
+}
+
 TEST(OctreeConversion, SameLatticeAsVoxelGridFilterCentres)
 {
   // Uniform points, faces included (multiples of the resolution): VoxelGridFilter's

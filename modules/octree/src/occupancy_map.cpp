@@ -1166,6 +1166,7 @@ void OccupancyMap::getOccupiedVoxelCentres(CloudXYZ& cloud,
 {
   OccupiedVoxelOptions own = options;
   own.inner_nodes_hold_max = true; // insert is non-lazy; read() updates inner nodes
+  own.threads = threads_;
   occupiedVoxelCentres(*tree_, cloud, own);
 }
 

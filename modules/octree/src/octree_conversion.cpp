@@ -8,6 +8,7 @@
 #include <fstream>
 #include <iomanip>
 #include <limits>
+#include <omp.h>
 #include <sstream>
 #include <vector>
 
@@ -198,17 +199,48 @@ public:
     }
   }
 
+  /// A subtree that forEach walks whole: its node, depth and first key per axis.
+  struct Subtree {
+    const octomap::OcTreeNode* node;
+    unsigned depth;
+    std::int64_t lo[3];
+  };
+
+  /// The subtrees at `depth` (and the leaves above it) that forEach walks, in its order:
+  /// forEach is forEachIn of each in turn.
+  std::vector<Subtree> subtrees(unsigned depth) const
+  {
+    std::vector<Subtree> out;
+    if (const octomap::OcTreeNode* root = tree_.getRoot()) {
+      const std::int64_t lo[3] = {0, 0, 0};
+      split(*root, 0, lo, depth, out);
+    }
+    return out;
+  }
+
+  /// forEach's calls for the leaves of one subtree.
+  template <typename F>
+  void forEachIn(const Subtree& subtree, F&& f) const
+  {
+    walk(*subtree.node, subtree.depth, subtree.lo, f);
+  }
+
   /// The voxels forEach visits, without allocating.
   double count() const
   {
     double count = 0.0;
-    forEach([&](const std::int64_t* lo, const std::int64_t* hi) {
-      double voxels = 1.0;
-      for (int a = 0; a < 3; ++a)
-        voxels *= static_cast<double>(std::max<std::int64_t>(hi[a] - lo[a] + 1, 0));
-      count += voxels;
-    });
+    forEach(
+        [&](const std::int64_t* lo, const std::int64_t* hi) { count += voxels(lo, hi); });
     return count;
+  }
+
+  /// The voxels of the key ranges [lo, hi] (0 when empty on an axis).
+  static double voxels(const std::int64_t* lo, const std::int64_t* hi)
+  {
+    double voxels = 1.0;
+    for (int a = 0; a < 3; ++a)
+      voxels *= static_cast<double>(std::max<std::int64_t>(hi[a] - lo[a] + 1, 0));
+    return voxels;
   }
 
 private:
@@ -218,8 +250,16 @@ private:
     return threshold < 0.0 ? tree_.isNodeOccupied(node) : node.getOccupancy() > threshold;
   }
 
-  /// The node at `depth` whose keys start at `lo` per axis (child i takes the upper half
-  /// of axis a where bit a of i is set: OctoMap's child index).
+  /// The first keys of child i of a node of n keys a side starting at `lo`: the upper
+  /// half of axis a where bit a of i is set (OctoMap's child index).
+  static void childKeys(const std::int64_t lo[3], std::int64_t n, unsigned i,
+                        std::int64_t child_lo[3])
+  {
+    for (unsigned a = 0; a < 3; ++a)
+      child_lo[a] = lo[a] + (((i >> a) & 1u) ? n / 2 : 0);
+  }
+
+  /// The node at `depth` whose keys start at `lo` per axis.
   template <typename F>
   void walk(const octomap::OcTreeNode& node, unsigned depth, const std::int64_t lo[3],
             F& f) const
@@ -232,9 +272,8 @@ private:
       for (unsigned i = 0; i < 8; ++i) {
         if (!tree_.nodeChildExists(&node, i))
           continue;
-        const std::int64_t child_lo[3] = {lo[0] + ((i & 1u) ? n / 2 : 0),
-                                          lo[1] + ((i & 2u) ? n / 2 : 0),
-                                          lo[2] + ((i & 4u) ? n / 2 : 0)};
+        std::int64_t child_lo[3];
+        childKeys(lo, n, i, child_lo);
         walk(*tree_.getNodeChild(&node, i), depth + 1, child_lo, f);
       }
       return;
@@ -254,6 +293,27 @@ private:
       static_cast<const std::int64_t*>(leaf_hi));
   }
 
+  /// walk's descent down to `split_depth`, keeping the subtrees there instead of
+  /// walking them.
+  void split(const octomap::OcTreeNode& node, unsigned depth, const std::int64_t lo[3],
+             unsigned split_depth, std::vector<Subtree>& out) const
+  {
+    if (depth == split_depth || !tree_.nodeHasChildren(&node)) {
+      out.push_back({&node, depth, {lo[0], lo[1], lo[2]}});
+      return;
+    }
+    if (options_.inner_nodes_hold_max && !occupied(node))
+      return;
+    const std::int64_t n = std::int64_t{1} << (depth_ - depth);
+    for (unsigned i = 0; i < 8; ++i) {
+      if (!tree_.nodeChildExists(&node, i))
+        continue;
+      std::int64_t child_lo[3];
+      childKeys(lo, n, i, child_lo);
+      split(*tree_.getNodeChild(&node, i), depth + 1, child_lo, split_depth, out);
+    }
+  }
+
   const octomap::OcTree& tree_;
   const OccupiedVoxelOptions& options_;
   const unsigned depth_;
@@ -268,38 +328,103 @@ double occupiedVoxelCount(const octomap::OcTree& tree,
   return OccupiedLeaves(tree, options).count();
 }
 
+namespace {
+
+/// Each key of the ranges [lo, hi] per axis, z fastest.
+template <typename Emit>
+void forEachKey(const std::int64_t* lo, const std::int64_t* hi, Emit&& emit)
+{
+  octomap::OcTreeKey key;
+  for (std::int64_t kx = lo[0]; kx <= hi[0]; ++kx)
+    for (std::int64_t ky = lo[1]; ky <= hi[1]; ++ky)
+      for (std::int64_t kz = lo[2]; kz <= hi[2]; ++kz) {
+        key[0] = static_cast<octomap::key_type>(kx);
+        key[1] = static_cast<octomap::key_type>(ky);
+        key[2] = static_cast<octomap::key_type>(kz);
+        emit(key);
+      }
+}
+
+/// The depth of the subtrees that threads walk: nodes of 32 voxels a side, hundreds of
+/// them on a plant's map.
+constexpr unsigned kSubtreeDepth = 11;
+
+} // namespace
+
 void occupiedVoxelCentres(const octomap::OcTree& tree, CloudXYZ& cloud,
                           const OccupiedVoxelOptions& options)
 {
+  if (options.threads < 0)
+    throw InvalidArgumentError(
+        "occupiedVoxelCentres: " + std::to_string(options.threads) +
+        " threads, expected >= 0 (0 = OpenMP's default)");
   const OccupiedLeaves leaves(tree, options);
-  const double points = leaves.count();
+  const int threads = options.threads > 0 ? options.threads : omp_get_max_threads();
+  // Subtrees on several threads, each writing from its first point on: their points
+  // are known ahead only without a ROI (its exact test keeps some of them).
+  const bool parallel = threads > 1 && options.roi.empty();
+  std::vector<OccupiedLeaves::Subtree> subtrees;
+  std::vector<double> subtree_points;
+  double points = 0.0;
+  if (parallel) {
+    subtrees = leaves.subtrees(kSubtreeDepth);
+    subtree_points.assign(subtrees.size(), 0.0);
+#pragma omp parallel for num_threads(threads) schedule(dynamic, 1)
+    for (std::ptrdiff_t i = 0; i < static_cast<std::ptrdiff_t>(subtrees.size()); ++i) {
+      double count = 0.0;
+      leaves.forEachIn(subtrees[static_cast<std::size_t>(i)],
+                       [&](const std::int64_t* lo, const std::int64_t* hi) {
+                         count += OccupiedLeaves::voxels(lo, hi);
+                       });
+      subtree_points[static_cast<std::size_t>(i)] = count;
+    }
+    for (double count : subtree_points)
+      points += count; // whole numbers: the same sum as count()'s
+  } else {
+    points = leaves.count();
+  }
   std::ostringstream what;
   what << std::setprecision(3) << "the octree's occupied voxels of "
        << tree.getResolution() << " m (" << points << " points)";
   requireWithinMemoryCap(points * static_cast<double>(sizeof(pcl::PointXYZ)),
                          options.memory_cap_bytes, what.str());
   cloud.clear();
-  const bool use_roi = !options.roi.empty();
-  const auto push = [&](const octomap::OcTreeKey& key) {
-    const double x = tree.keyToCoord(key[0]);
-    const double y = tree.keyToCoord(key[1]);
-    const double z = tree.keyToCoord(key[2]);
-    if (use_roi && !options.roi.contains(Eigen::Vector3d(x, y, z)))
-      return;
-    cloud.push_back(pcl::PointXYZ(static_cast<float>(x), static_cast<float>(y),
-                                  static_cast<float>(z)));
+  const auto centre = [&tree](const octomap::OcTreeKey& key) {
+    return Eigen::Vector3d(tree.keyToCoord(key[0]), tree.keyToCoord(key[1]),
+                           tree.keyToCoord(key[2]));
   };
-  leaves.forEach([&](const std::int64_t* lo, const std::int64_t* hi) {
-    octomap::OcTreeKey key;
-    for (std::int64_t kx = lo[0]; kx <= hi[0]; ++kx)
-      for (std::int64_t ky = lo[1]; ky <= hi[1]; ++ky)
-        for (std::int64_t kz = lo[2]; kz <= hi[2]; ++kz) {
-          key[0] = static_cast<octomap::key_type>(kx);
-          key[1] = static_cast<octomap::key_type>(ky);
-          key[2] = static_cast<octomap::key_type>(kz);
-          push(key);
-        }
-  });
+  const auto point = [](const Eigen::Vector3d& c) {
+    return pcl::PointXYZ(static_cast<float>(c.x()), static_cast<float>(c.y()),
+                         static_cast<float>(c.z()));
+  };
+  if (parallel) {
+    cloud.resize(static_cast<std::size_t>(points));
+    std::vector<std::size_t> first(subtrees.size());
+    std::size_t next = 0;
+    for (std::size_t i = 0; i < subtrees.size(); ++i) {
+      first[i] = next;
+      next += static_cast<std::size_t>(subtree_points[i]);
+    }
+#pragma omp parallel for num_threads(threads) schedule(dynamic, 1)
+    for (std::ptrdiff_t i = 0; i < static_cast<std::ptrdiff_t>(subtrees.size()); ++i) {
+      std::size_t k = first[static_cast<std::size_t>(i)];
+      leaves.forEachIn(subtrees[static_cast<std::size_t>(i)],
+                       [&](const std::int64_t* lo, const std::int64_t* hi) {
+                         forEachKey(lo, hi, [&](const octomap::OcTreeKey& key) {
+                           cloud[k++] = point(centre(key));
+                         });
+                       });
+    }
+  } else {
+    const bool use_roi = !options.roi.empty();
+    leaves.forEach([&](const std::int64_t* lo, const std::int64_t* hi) {
+      forEachKey(lo, hi, [&](const octomap::OcTreeKey& key) {
+        const Eigen::Vector3d c = centre(key);
+        if (!use_roi || options.roi.contains(c))
+          cloud.push_back(point(c));
+      });
+    });
+  }
   cloud.width = static_cast<std::uint32_t>(cloud.size());
   cloud.height = 1;
   cloud.is_dense = true;

@@ -209,7 +209,8 @@ public:
   const octomap::OcTree& getOcTree() const { return *tree_; }
 
   /// \brief Centres of the occupied voxels (plantnbv::occupiedVoxelCentres on the tree;
-  /// its inner nodes hold their children's maximum, so free subtrees are not walked).
+  /// its inner nodes hold their children's maximum, so free subtrees are not walked), on
+  /// the map's threads (setNumberOfThreads) in place of options.threads.
   void getOccupiedVoxelCentres(CloudXYZ& cloud,
                                const OccupiedVoxelOptions& options = {}) const;
 

@@ -38,6 +38,9 @@ struct OccupiedVoxelOptions {
   /// walked. The same points either way on such a tree, far faster on a map of mostly
   /// free space; on another tree, occupied voxels would be missed.
   bool inner_nodes_hold_max = false;
+  /// Threads of the walk (default 1; 0: OpenMP's default). The same points in the same
+  /// order for any count; with a ROI the walk takes one thread.
+  int threads = 1;
 };
 
 /// \brief The number of points `occupiedVoxelCentres` gives with `options` before the
@@ -55,8 +58,9 @@ double occupiedVoxelCount(const octomap::OcTree& tree,
 /// order (z fastest).
 /// \param[in] tree the map; not modified. \param[out] cloud cleared, then filled
 /// (unorganized, dense). \throws InvalidArgumentError if options.threshold is NaN or > 1,
-/// or if occupiedVoxelCount(tree, options) points exceed options.memory_cap_bytes (the
-/// message gives both; checked before anything is allocated).
+/// options.threads < 0, or if occupiedVoxelCount(tree, options) points exceed
+/// options.memory_cap_bytes (the message gives both; checked before anything is
+/// allocated).
 void occupiedVoxelCentres(const octomap::OcTree& tree, CloudXYZ& cloud,
                           const OccupiedVoxelOptions& options = {});
 
