@@ -11,6 +11,10 @@
 /// of each phase (plan_ms, capture_ms, insert_ms, eval_ms), setup_ms, and the final
 /// leaf-node F1. `full_map` 0: Trial::setKeepFullMap(false), as a campaign runs its
 /// trials (the same steps and scores, the free space that nothing reads left out).
+/// BM_Evaluation times a trial's evaluation alone, without the noise of the rest of
+/// the trial: `ground_truth` is the evaluator's setup in a trial (setGroundTruth,
+/// setLevels, setBackground), `view` one view's scores and organ recall of the
+/// reconstruction that a whole-plant NBV trial of the plant ends with (10 views).
 /// Run (machine quiet):
 ///   bench_trial --benchmark_repetitions=3 --benchmark_report_aggregates_only=true
 
@@ -18,8 +22,13 @@
 #include <string>
 
 #include <benchmark/benchmark.h>
+#include <pcl/point_cloud.h>
+#include <pcl/point_types.h>
 
+#include <plantnbv/experiment/plant_scene.h>
+#include <plantnbv/experiment/reconstruction_evaluator.h>
 #include <plantnbv/experiment/trial.h>
+#include <plantnbv/octree/occupancy_map.h>
 #include <plantnbv/plant/plant_rois.h>
 #include <plantnbv/plant/tomato_plant_generator.h>
 
@@ -35,6 +44,22 @@ std::shared_ptr<const Plant> defaultPlant(int seed)
   return plant;
 }
 
+const std::shared_ptr<const Plant>& cachedPlant(int seed)
+{
+  static std::shared_ptr<const Plant> plants[10];
+  if (!plants[seed])
+    plants[seed] = defaultPlant(seed);
+  return plants[seed];
+}
+
+std::vector<EvaluationLevel> evaluationLevels(const Plant& plant)
+{
+  return {{"whole_plant", wholePlantRoi(plant)},
+          {"main_stem", mainStemRoi(plant)},
+          {"leaf_nodes", leafNodeRoi(plant), true},
+          {"fruit", fruitRoi(plant), true}};
+}
+
 /// planner: 0 = NBV whole plant, 1 = NBV leaf nodes, 2 = random.
 void BM_Trial(benchmark::State& state)
 {
@@ -42,10 +67,7 @@ void BM_Trial(benchmark::State& state)
   const int planner = int(state.range(1));
   const int threads = int(state.range(2));
   const bool full_map = state.range(3) != 0;
-  static std::shared_ptr<const Plant> plants[10];
-  if (!plants[seed])
-    plants[seed] = defaultPlant(seed);
-  const Plant& plant = *plants[seed];
+  const Plant& plant = *cachedPlant(seed);
 
   TrialConfig config;
   config.planner = planner == 2 ? PlannerKind::random : PlannerKind::nbv;
@@ -53,12 +75,9 @@ void BM_Trial(benchmark::State& state)
   config.seed = 1;
   Trial trial(config);
   trial.setKeepFullMap(full_map);
-  trial.setPlant(plants[seed]);
+  trial.setPlant(cachedPlant(seed));
   trial.setAttentionRoi(planner == 1 ? leafNodeRoi(plant) : wholePlantRoi(plant));
-  trial.setEvaluationLevels({{"whole_plant", wholePlantRoi(plant)},
-                             {"main_stem", mainStemRoi(plant)},
-                             {"leaf_nodes", leafNodeRoi(plant), true},
-                             {"fruit", fruitRoi(plant), true}});
+  trial.setEvaluationLevels(evaluationLevels(plant));
   TrialResult result;
   for (auto _ : state) {
     trial.run(result);
@@ -86,6 +105,60 @@ BENCHMARK(BM_Trial)
     ->UseManualTime()
     ->Unit(benchmark::kMillisecond)
     ->Iterations(1);
+
+/// phase: 0 = the evaluator's setup (ground truth), 1 = one view's evaluation.
+void BM_Evaluation(benchmark::State& state)
+{
+  const int seed = int(state.range(0));
+  const bool view = state.range(1) != 0;
+  const int threads = int(state.range(2));
+  const Plant& plant = *cachedPlant(seed);
+  TrialConfig config;
+  config.seed = 1;
+  static CloudXYZ reconstructions[10];
+  CloudXYZ& reconstruction = reconstructions[seed];
+  if (view && reconstruction.empty()) {
+    Trial trial(config);
+    trial.setPlant(cachedPlant(seed));
+    trial.setAttentionRoi(wholePlantRoi(plant));
+    trial.setEvaluationLevels(evaluationLevels(plant));
+    TrialResult result;
+    trial.run(result);
+    trial.getMap().getOccupiedVoxelCentres(reconstruction);
+  }
+  TriangleMesh background;
+  for (const TriangleMesh& part : plantSceneBackground(plant, config.scene))
+    background.append(part);
+  const auto setUp = [&](ReconstructionEvaluator& evaluator) {
+    evaluator.setResolution(config.map.resolution_m);
+    evaluator.setSeed(groundTruthSeed(config.seed));
+    evaluator.setNumberOfThreads(threads);
+    evaluator.setGroundTruth(plant);
+    evaluator.setLevels(evaluationLevels(plant));
+    evaluator.setBackground(background);
+  };
+  ReconstructionEvaluator evaluator;
+  if (view)
+    setUp(evaluator);
+  std::vector<LevelScore> scores;
+  std::vector<OrganRecall> organs;
+  for (auto _ : state) {
+    if (view) {
+      evaluator.compute(reconstruction, scores, organs);
+    } else {
+      ReconstructionEvaluator fresh;
+      setUp(fresh);
+    }
+  }
+  if (view)
+    state.counters["occupied_voxels"] = double(reconstruction.size());
+}
+
+BENCHMARK(BM_Evaluation)
+    ->ArgsProduct({{3, 9}, {0, 1}, {1, 2}})
+    ->ArgNames({"plant", "view", "threads"})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
 
 } // namespace
 

@@ -194,6 +194,28 @@ TEST(ReconstructionEvaluator, LeavesTheBackgroundsVoxelsOut)
   EXPECT_DOUBLE_EQ(with[0].recall, without[0].recall);
   EXPECT_DOUBLE_EQ(with[0].recall, 1.0);
 
+  // Scores and organ recall in one call (the background left out once): the same as
+  // the two calls.
+  std::vector<LevelScore> together;
+  std::vector<OrganRecall> organs, organs_alone;
+  evaluator.compute(map, together, organs);
+  evaluator.computeOrganRecall(map, organs_alone);
+  ASSERT_EQ(together.size(), 1u);
+  EXPECT_EQ(together[0].reconstruction_points, with[0].reconstruction_points);
+  EXPECT_EQ(together[0].reference_points, with[0].reference_points);
+  EXPECT_EQ(together[0].precision, with[0].precision);
+  EXPECT_EQ(together[0].recall, with[0].recall);
+  EXPECT_EQ(together[0].chamfer, with[0].chamfer);
+  ASSERT_EQ(organs.size(), organs_alone.size());
+  for (std::size_t o = 0; o < organs.size(); ++o) {
+    EXPECT_EQ(organs[o].reference_points, organs_alone[o].reference_points);
+    EXPECT_TRUE(organs[o].recall == organs_alone[o].recall ||
+                (std::isnan(organs[o].recall) && std::isnan(organs_alone[o].recall)));
+  }
+  EXPECT_EQ(organs[2].organ, PartLabel::leaflet);
+  EXPECT_EQ(organs[2].reference_points, 144u);
+  EXPECT_EQ(organs[2].recall, 1.0);
+
   // The same whether the background or the levels come first.
   ReconstructionEvaluator reordered;
   reordered.setResolution(res);

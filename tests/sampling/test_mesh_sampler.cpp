@@ -45,6 +45,7 @@ TEST(MeshSampler, AreaWeightedShares)
   const std::size_t n = 80000;
   sampler.setNumberOfPoints(n);
   sampler.setSeed(3);
+  sampler.setNumberOfThreads(2); // each point keeps its own triangle's label
   pcl::PointCloud<pcl::PointXYZL> cloud;
   sampler.sample(cloud);
   ASSERT_EQ(cloud.size(), n);
@@ -172,20 +173,24 @@ TEST(MeshSampler, TrianglesAreThoseOfASearchOverTheWholeAreaTable)
                                  *threeTriangles()};
   for (const TriangleMesh& mesh : meshes)
     for (std::uint64_t seed : {0u, 9u}) {
-      const std::size_t n = 60000;
-      MeshSampler sampler;
-      sampler.setInputMesh(std::make_shared<TriangleMesh>(mesh));
-      sampler.setNumberOfPoints(n);
-      sampler.setSeed(seed);
-      pcl::PointCloud<pcl::PointXYZ> cloud;
-      sampler.sample(cloud);
+      const std::size_t n = 140000; // the random numbers are drawn in several batches
       const std::vector<Eigen::Vector3f> expected =
           drawWithWholeTableSearch(mesh, n, seed);
-      ASSERT_EQ(cloud.size(), n);
-      std::size_t differ = 0;
-      for (std::size_t i = 0; i < n; ++i)
-        differ += cloud[i].getVector3fMap() != expected[i];
-      EXPECT_EQ(differ, 0u) << mesh.size() << " triangles, seed " << seed;
+      for (int threads : {1, 3}) { // the points are made on several threads at once
+        MeshSampler sampler;
+        sampler.setInputMesh(std::make_shared<TriangleMesh>(mesh));
+        sampler.setNumberOfPoints(n);
+        sampler.setSeed(seed);
+        sampler.setNumberOfThreads(threads);
+        pcl::PointCloud<pcl::PointXYZ> cloud;
+        sampler.sample(cloud);
+        ASSERT_EQ(cloud.size(), n);
+        std::size_t differ = 0;
+        for (std::size_t i = 0; i < n; ++i)
+          differ += cloud[i].getVector3fMap() != expected[i];
+        EXPECT_EQ(differ, 0u) << mesh.size() << " triangles, seed " << seed << ", "
+                              << threads << " threads";
+      }
     }
 }
 
@@ -196,6 +201,7 @@ TEST(MeshSampler, RejectsBadInput)
   EXPECT_THROW(sampler.sample(cloud), plantnbv::InvalidArgumentError);
   EXPECT_THROW(sampler.setInputMesh(nullptr), plantnbv::InvalidArgumentError);
   EXPECT_THROW(sampler.setNumberOfPoints(0), plantnbv::InvalidArgumentError);
+  EXPECT_THROW(sampler.setNumberOfThreads(-1), plantnbv::InvalidArgumentError);
   auto flat = std::make_shared<TriangleMesh>();
   flat->vertices = {{0, 0, 0}, {1, 0, 0}, {2, 0, 0}};
   flat->triangles = {{0, 1, 2}};

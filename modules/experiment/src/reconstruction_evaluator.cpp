@@ -1,9 +1,9 @@
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <limits>
 #include <set>
-#include <unordered_map>
-#include <unordered_set>
+#include <vector>
 
 #include <pcl/common/point_tests.h>
 #include <pcl/point_cloud.h>
@@ -50,6 +50,74 @@ bool keyOf(const pcl::PointXYZ& p, const VoxelLattice& lattice, VoxelKey& key)
   return true;
 }
 
+/// Voxel keys to 32-bit values in one open-addressing table (linear probing, at most
+/// half full): the evaluator looks up every sample and every reconstruction voxel, and
+/// std::unordered_map's node per key made those lookups the serial part of a view.
+/// Only looked up, never iterated: its layout cannot reach a result.
+class VoxelKeyMap {
+public:
+  /// The value of `key`, inserted as 0 if absent.
+  std::uint32_t& operator[](VoxelKey key)
+  {
+    if (2 * (size_ + 1) > slots_.size())
+      grow();
+    Slot& slot = slots_[findSlot(key)];
+    if (slot.key == kEmpty) {
+      slot.key = key;
+      ++size_;
+    }
+    return slot.value;
+  }
+  /// The value of `key`, or nullptr if absent.
+  const std::uint32_t* find(VoxelKey key) const
+  {
+    if (slots_.empty())
+      return nullptr;
+    const Slot& slot = slots_[findSlot(key)];
+    return slot.key == key ? &slot.value : nullptr;
+  }
+  bool contains(VoxelKey key) const { return find(key) != nullptr; }
+  std::size_t size() const { return size_; }
+  bool empty() const { return size_ == 0; }
+  void clear()
+  {
+    slots_.clear();
+    size_ = 0;
+  }
+
+private:
+  static constexpr VoxelKey kEmpty = ~VoxelKey{0}; // packKey's keys use 48 bits
+  struct Slot {
+    VoxelKey key = kEmpty;
+    std::uint32_t value = 0;
+  };
+
+  /// The slot holding `key`, or the empty one where it would go.
+  std::size_t findSlot(VoxelKey key) const
+  {
+    const std::size_t mask = slots_.size() - 1;
+    // Fibonacci hashing (the product's top bits): neighbouring voxels spread out.
+    std::size_t i = static_cast<std::size_t>((key * 0x9E3779B97F4A7C15ull) >> shift_);
+    while (slots_[i].key != key && slots_[i].key != kEmpty)
+      i = (i + 1) & mask;
+    return i;
+  }
+
+  void grow()
+  {
+    std::vector<Slot> old(std::max<std::size_t>(64, 2 * slots_.size()));
+    old.swap(slots_);
+    shift_ = 64 - __builtin_ctzll(slots_.size());
+    for (const Slot& slot : old)
+      if (slot.key != kEmpty)
+        slots_[findSlot(slot.key)] = slot;
+  }
+
+  std::vector<Slot> slots_; ///< a power of two of them
+  std::size_t size_ = 0;
+  int shift_ = 64;
+};
+
 } // namespace
 
 const std::vector<PartLabel>& evaluatedOrgans()
@@ -69,7 +137,7 @@ struct ReconstructionEvaluator::Impl {
   std::unique_ptr<ReconstructionMetrics> whole;
   TriangleMesh background;
   /// Voxels of the levels' boxes near the background and free of ground truth.
-  std::unordered_set<VoxelKey> background_keys;
+  VoxelKeyMap background_keys;
   /// Where background_keys were looked for (the levels' bounding box).
   Box background_region;
 
@@ -97,11 +165,11 @@ void ReconstructionEvaluator::Impl::updateBackgroundKeys(
       all.addBox(box);
   background_region = all.boundingBox();
   const Eigen::Vector3d lo = background_region.min(), hi = background_region.max();
-  std::unordered_set<VoxelKey> truth;
+  VoxelKeyMap truth;
   for (const pcl::PointXYZ& p : *ground_truth) {
     VoxelKey key;
     if (keyOf(p, lattice, key))
-      truth.insert(key);
+      truth[key] = 1;
   }
   // A voxel is background if the triangle meets it or one of its 26 neighbours: the
   // box of three voxels' side around it.
@@ -127,12 +195,12 @@ void ReconstructionEvaluator::Impl::updateBackgroundKeys(
       for (k[1] = first[1]; k[1] <= last[1]; ++k[1])
         for (k[2] = first[2]; k[2] <= last[2]; ++k[2]) {
           const VoxelKey key = packKey(k);
-          if (truth.count(key) || background_keys.count(key))
+          if (truth.contains(key) || background_keys.contains(key))
             continue;
           const Eigen::Vector3d centre(lattice.keyToCoord(k[0]), lattice.keyToCoord(k[1]),
                                        lattice.keyToCoord(k[2]));
           if (Box(centre, near_size).overlapsTriangle(a, b, c))
-            background_keys.insert(key);
+            background_keys[key] = 1;
         }
   }
 }
@@ -163,10 +231,13 @@ void ReconstructionEvaluator::setGroundTruth(const Plant& plant)
   std::vector<PartLabel> labels; // one per sample, or empty
   if (!plant.mesh.empty()) {
     MeshSampler sampler;
-    sampler.setInputMesh(std::make_shared<TriangleMesh>(plant.mesh));
+    // Not owned: the sampler does not outlive this call (a copy cost as much as a
+    // tenth of the sampling).
+    sampler.setInputMesh(MeshSampler::MeshConstPtr(std::shared_ptr<void>(), &plant.mesh));
     sampler.setNumberOfPoints(
         groundTruthSampleCount(sampler.getSurfaceArea(), resolution_m_));
     sampler.setSeed(seed_);
+    sampler.setNumberOfThreads(threads_);
     CloudXYZL labelled; // the same points as the unlabelled draw, with their labels
     sampler.sample(labelled);
     samples->reserve(labelled.size());
@@ -192,7 +263,7 @@ void ReconstructionEvaluator::setGroundTruth(const Plant& plant)
 
   // The organs of each ground-truth voxel: the labels of the samples in it.
   const VoxelLattice lattice(resolution_m_);
-  std::unordered_map<VoxelKey, std::uint32_t> labels_of;
+  VoxelKeyMap labels_of;
   if (labels.size() == samples->size())
     for (std::size_t i = 0; i < samples->size(); ++i) {
       VoxelKey key;
@@ -204,9 +275,8 @@ void ReconstructionEvaluator::setGroundTruth(const Plant& plant)
   for (std::size_t i = 0; i < impl_->ground_truth->size(); ++i) {
     VoxelKey key;
     if (keyOf((*impl_->ground_truth)[i], lattice, key)) {
-      const auto it = labels_of.find(key);
-      if (it != labels_of.end())
-        impl_->voxel_labels[i] = it->second;
+      if (const std::uint32_t* bits = labels_of.find(key))
+        impl_->voxel_labels[i] = *bits;
     }
   }
   impl_->whole = std::make_unique<ReconstructionMetrics>();
@@ -287,7 +357,7 @@ ReconstructionEvaluator::withoutBackground(const CloudXYZ& reconstruction) const
   for (const pcl::PointXYZ& p : reconstruction) {
     VoxelKey key;
     if (impl_->background_region.contains(p.x, p.y, p.z) && keyOf(p, lattice, key) &&
-        impl_->background_keys.count(key))
+        impl_->background_keys.contains(key))
       continue;
     kept->push_back(p);
   }
@@ -297,7 +367,31 @@ ReconstructionEvaluator::withoutBackground(const CloudXYZ& reconstruction) const
 void ReconstructionEvaluator::compute(const CloudXYZ& reconstruction,
                                       std::vector<LevelScore>& scores) const
 {
-  const CloudXYZ::ConstPtr cloud = withoutBackground(reconstruction);
+  scoreLevels(withoutBackground(reconstruction), scores);
+}
+
+void ReconstructionEvaluator::computeOrganRecall(const CloudXYZ& reconstruction,
+                                                 std::vector<OrganRecall>& recalls) const
+{
+  if (!impl_->whole)
+    throw InvalidArgumentError("ReconstructionEvaluator: no ground truth set");
+  scoreOrgans(withoutBackground(reconstruction), recalls);
+}
+
+void ReconstructionEvaluator::compute(const CloudXYZ& reconstruction,
+                                      std::vector<LevelScore>& scores,
+                                      std::vector<OrganRecall>& recalls) const
+{
+  if (!impl_->whole)
+    throw InvalidArgumentError("ReconstructionEvaluator: no ground truth set");
+  const CloudXYZConstPtr cloud = withoutBackground(reconstruction);
+  scoreLevels(cloud, scores);
+  scoreOrgans(cloud, recalls);
+}
+
+void ReconstructionEvaluator::scoreLevels(const CloudXYZConstPtr& cloud,
+                                          std::vector<LevelScore>& scores) const
+{
   scores.assign(levels_.size(), LevelScore{});
   for (std::size_t l = 0; l < levels_.size(); ++l) {
     LevelScore& s = scores[l];
@@ -327,14 +421,12 @@ void ReconstructionEvaluator::compute(const CloudXYZ& reconstruction,
   }
 }
 
-void ReconstructionEvaluator::computeOrganRecall(const CloudXYZ& reconstruction,
-                                                 std::vector<OrganRecall>& recalls) const
+void ReconstructionEvaluator::scoreOrgans(const CloudXYZConstPtr& cloud,
+                                          std::vector<OrganRecall>& recalls) const
 {
-  if (!impl_->whole)
-    throw InvalidArgumentError("ReconstructionEvaluator: no ground truth set");
   ReconstructionMetrics& metrics = *impl_->whole;
   metrics.setNumberOfThreads(threads_);
-  metrics.setReconstruction(withoutBackground(reconstruction));
+  metrics.setReconstruction(cloud);
   std::vector<double> to_mine; // only whether each is below the resolution matters
   metrics.computeDistancesBelow(resolution_m_, to_mine);
   const std::vector<PartLabel>& organs = evaluatedOrgans();

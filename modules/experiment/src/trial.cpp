@@ -459,8 +459,7 @@ bool Trial::runOnce(TrialResult& result, bool with_region)
     Stopwatch eval_clock;
     map_->getOccupiedVoxelCentres(occupied);
     step.occupied_voxels = occupied.size();
-    evaluator.compute(occupied, step.scores);
-    evaluator.computeOrganRecall(occupied, step.organs);
+    evaluator.compute(occupied, step.scores, step.organs);
     step.eval_ms = eval_clock.ms();
     if (c.roi_source.followsFrames()) { // what the next view attends to
       attended_ = detecting ? fusion.getRoi() : Roi();

@@ -2,6 +2,7 @@
 #include <cmath>
 #include <cstddef>
 #include <limits>
+#include <omp.h>
 #include <string>
 
 #include <pcl/point_cloud.h>
@@ -87,8 +88,16 @@ void MeshSampler::setNumberOfPoints(std::size_t n)
   n_points_ = n;
 }
 
-template <typename Emit>
-void MeshSampler::draw(Emit&& emit) const
+void MeshSampler::setNumberOfThreads(int threads)
+{
+  if (threads < 0)
+    throw InvalidArgumentError("MeshSampler: thread count must be >= 0, got " +
+                               std::to_string(threads));
+  threads_ = threads;
+}
+
+template <typename Store>
+void MeshSampler::draw(Store&& store) const
 {
   if (!mesh_)
     throw InvalidArgumentError("MeshSampler: no input mesh set (call setInputMesh)");
@@ -97,18 +106,32 @@ void MeshSampler::draw(Emit&& emit) const
   const auto last_with_area = static_cast<std::size_t>(
       std::lower_bound(cumulative_area_.begin(), cumulative_area_.end(), total_area_) -
       cumulative_area_.begin());
-  for (std::size_t i = 0; i < n_points_; ++i) {
-    const double u = rng.uniform() * total_area_;
-    // The first triangle whose cumulative area exceeds u: zero-area ones never qualify.
-    const std::size_t t = std::min(triangleAt(u), last_with_area);
-    const auto& tri = mesh_->triangles[t];
-    const Eigen::Vector3d a = mesh_->vertices[tri[0]].cast<double>();
-    const Eigen::Vector3d b = mesh_->vertices[tri[1]].cast<double>();
-    const Eigen::Vector3d c = mesh_->vertices[tri[2]].cast<double>();
-    // Uniform in the triangle: sqrt warps the first coordinate (Osada et al. 2002).
-    const double s = std::sqrt(rng.uniform());
-    const double r = rng.uniform();
-    emit((1.0 - s) * a + s * (1.0 - r) * b + s * r * c, t);
+  const int threads = threads_ > 0 ? threads_ : omp_get_max_threads();
+  // The random numbers are drawn on one thread, three per point in point order, a batch
+  // at a time; the points are then made from them on `threads`: the same points for any
+  // thread count.
+  constexpr std::size_t kBatch = std::size_t{1} << 16;
+  std::vector<double> draws(3 * std::min(n_points_, kBatch));
+  for (std::size_t first = 0; first < n_points_; first += kBatch) {
+    const std::size_t count = std::min(kBatch, n_points_ - first);
+    for (std::size_t k = 0; k < 3 * count; ++k)
+      draws[k] = rng.uniform();
+#pragma omp parallel for num_threads(threads) schedule(static) if (threads > 1)
+    for (std::ptrdiff_t k = 0; k < static_cast<std::ptrdiff_t>(count); ++k) {
+      const double* d = &draws[3 * static_cast<std::size_t>(k)];
+      const double u = d[0] * total_area_;
+      // The first triangle whose cumulative area exceeds u: zero-area ones never qualify.
+      const std::size_t t = std::min(triangleAt(u), last_with_area);
+      const auto& tri = mesh_->triangles[t];
+      const Eigen::Vector3d a = mesh_->vertices[tri[0]].cast<double>();
+      const Eigen::Vector3d b = mesh_->vertices[tri[1]].cast<double>();
+      const Eigen::Vector3d c = mesh_->vertices[tri[2]].cast<double>();
+      // Uniform in the triangle: sqrt warps the first coordinate (Osada et al. 2002).
+      const double s = std::sqrt(d[1]);
+      const double r = d[2];
+      store(first + static_cast<std::size_t>(k),
+            (1.0 - s) * a + s * (1.0 - r) * b + s * r * c, t);
+    }
   }
 }
 
@@ -117,31 +140,30 @@ template <typename PointT>
 void startUnorganized(pcl::PointCloud<PointT>& cloud, std::size_t n)
 {
   cloud.clear();
-  cloud.reserve(n);
+  cloud.resize(n); // width n, height 1
   cloud.is_dense = true;
 }
 } // namespace
 
 void MeshSampler::sample(CloudXYZ& cloud) const
 {
-  startUnorganized(cloud, n_points_);
-  draw([&](const Eigen::Vector3d& p, std::size_t) {
-    cloud.push_back(pcl::PointXYZ(static_cast<float>(p.x()), static_cast<float>(p.y()),
-                                  static_cast<float>(p.z())));
+  startUnorganized(cloud, mesh_ ? n_points_ : 0);
+  draw([&](std::size_t i, const Eigen::Vector3d& p, std::size_t) {
+    cloud[i] = pcl::PointXYZ(static_cast<float>(p.x()), static_cast<float>(p.y()),
+                             static_cast<float>(p.z()));
   });
 }
 
 void MeshSampler::sample(CloudXYZL& cloud) const
 {
-  startUnorganized(cloud, n_points_);
+  startUnorganized(cloud, mesh_ ? n_points_ : 0);
   const bool labelled = mesh_ && mesh_->hasLabels();
-  draw([&](const Eigen::Vector3d& p, std::size_t t) {
-    pcl::PointXYZL q;
+  draw([&](std::size_t i, const Eigen::Vector3d& p, std::size_t t) {
+    pcl::PointXYZL& q = cloud[i];
     q.x = static_cast<float>(p.x());
     q.y = static_cast<float>(p.y());
     q.z = static_cast<float>(p.z());
     q.label = labelled ? static_cast<std::uint32_t>(mesh_->labels[t]) : 0u;
-    cloud.push_back(q);
   });
 }
 

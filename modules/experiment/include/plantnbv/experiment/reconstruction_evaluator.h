@@ -146,6 +146,11 @@ public:
   /// compute().
   void computeOrganRecall(const CloudXYZ& reconstruction,
                           std::vector<OrganRecall>& recalls) const;
+  /// \brief compute() and computeOrganRecall() of one reconstruction, its background
+  /// left out once: what a trial scores after each view. The same results as the two
+  /// calls.
+  void compute(const CloudXYZ& reconstruction, std::vector<LevelScore>& scores,
+               std::vector<OrganRecall>& recalls) const;
   /// \brief The voxels that compute() scores at level `level` (index into the levels),
   /// by outcome: the background left out, cropped to the union of the level's boxes
   /// (as one, also for a level with average_boxes), matched at distance < rho.
@@ -156,6 +161,10 @@ public:
 private:
   /// `reconstruction` less the background's voxels (setBackground).
   CloudXYZConstPtr withoutBackground(const CloudXYZ& reconstruction) const;
+  /// compute() and computeOrganRecall() of a reconstruction without its background.
+  void scoreLevels(const CloudXYZConstPtr& cloud, std::vector<LevelScore>& scores) const;
+  void scoreOrgans(const CloudXYZConstPtr& cloud,
+                   std::vector<OrganRecall>& recalls) const;
 
   struct Impl;
   std::unique_ptr<Impl> impl_;

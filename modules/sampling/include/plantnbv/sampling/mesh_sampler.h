@@ -44,6 +44,9 @@ public:
   void setSeed(std::uint64_t seed) { seed_ = seed; }
   /// \brief The random seed: the same seed, mesh and count give the same points.
   std::uint64_t getSeed() const { return seed_; }
+  /// \brief Threads that make the points (default 1; 0: OpenMP's default). The points
+  /// do not depend on it. \throws InvalidArgumentError for a negative count.
+  void setNumberOfThreads(int threads);
 
   /// \brief Total surface area in square metres (after setInputMesh).
   double getSurfaceArea() const { return total_area_; }
@@ -56,9 +59,10 @@ public:
   void sample(CloudXYZL& cloud) const;
 
 private:
-  /// Draws the points; calls emit(point, triangle index) N times.
-  template <typename Emit>
-  void draw(Emit&& emit) const;
+  /// Draws the points; calls store(i, point i, its triangle index) for i in [0, N), on
+  /// several threads at once.
+  template <typename Store>
+  void draw(Store&& store) const;
   /// The guide of the area table: equal slices of the total area, each with the first
   /// triangle whose cumulative area exceeds the slice's start (empty: none).
   void buildGuide();
@@ -72,6 +76,7 @@ private:
   double slices_per_m2_ = 0.0;       ///< the guide's slices per m^2 of area
   std::size_t n_points_ = 100000;
   std::uint64_t seed_ = 0;
+  int threads_ = 1;
 };
 
 /// \brief The memory of drawing `points` samples of `point_bytes` each (sizeof the
