@@ -12,9 +12,9 @@
 /// leaf-node F1. `full_map` 0: Trial::setKeepFullMap(false), as a campaign runs its
 /// trials (the same steps and scores, the free space that nothing reads left out).
 /// BM_Evaluation times a trial's evaluation alone, without the noise of the rest of
-/// the trial: `ground_truth` is the evaluator's setup in a trial (setGroundTruth,
-/// setLevels, setBackground), `view` one view's scores and organ recall of the
-/// reconstruction that a whole-plant NBV trial of the plant ends with (10 views).
+/// the trial: `view:0` is the evaluator's setup in a trial (setGroundTruth, setLevels,
+/// setBackground), `view:1` one view's scores and organ recall of the reconstruction
+/// that a whole-plant NBV trial of the plant ends with (10 views).
 /// Run (machine quiet):
 ///   bench_trial --benchmark_repetitions=3 --benchmark_report_aggregates_only=true
 
@@ -106,7 +106,7 @@ BENCHMARK(BM_Trial)
     ->Unit(benchmark::kMillisecond)
     ->Iterations(1);
 
-/// phase: 0 = the evaluator's setup (ground truth), 1 = one view's evaluation.
+/// view: 0 = the evaluator's setup (ground truth), 1 = one view's evaluation.
 void BM_Evaluation(benchmark::State& state)
 {
   const int seed = int(state.range(0));

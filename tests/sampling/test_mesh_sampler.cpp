@@ -182,6 +182,7 @@ TEST(MeshSampler, TrianglesAreThoseOfASearchOverTheWholeAreaTable)
         sampler.setNumberOfPoints(n);
         sampler.setSeed(seed);
         sampler.setNumberOfThreads(threads);
+        EXPECT_EQ(sampler.getNumberOfThreads(), threads);
         pcl::PointCloud<pcl::PointXYZ> cloud;
         sampler.sample(cloud);
         ASSERT_EQ(cloud.size(), n);

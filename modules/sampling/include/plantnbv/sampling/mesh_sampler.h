@@ -47,6 +47,8 @@ public:
   /// \brief Threads that make the points (default 1; 0: OpenMP's default). The points
   /// do not depend on it. \throws InvalidArgumentError for a negative count.
   void setNumberOfThreads(int threads);
+  /// \brief The threads that make the points; 0 = OpenMP's default.
+  int getNumberOfThreads() const { return threads_; }
 
   /// \brief Total surface area in square metres (after setInputMesh).
   double getSurfaceArea() const { return total_area_; }
