@@ -88,14 +88,30 @@ void expectSameGains(const std::vector<ViewGain>& fast, const std::vector<ViewGa
 const int kLineK0 = 32768 + 200;
 const double kLineY = centre(32768 + 10), kLineZ = centre(32768 + 20);
 
+/// The centre of the line's voxel i (key kLineK0 + i).
+Eigen::Vector3d lineVoxel(int i)
+{
+  return Eigen::Vector3d(centre(kLineK0 + i), kLineY, kLineZ);
+}
+
 std::shared_ptr<OccupancyMap> lineWithAHitAt5()
 {
   auto map = std::make_shared<OccupancyMap>();
   CloudXYZ hit;
-  hit.push_back(pcl::PointXYZ(static_cast<float>(centre(kLineK0 + 5)),
-                              static_cast<float>(kLineY), static_cast<float>(kLineZ)));
-  map->insert(hit, Eigen::Vector3d(centre(kLineK0), kLineY, kLineZ));
+  const Eigen::Vector3f end = lineVoxel(5).cast<float>();
+  hit.push_back(pcl::PointXYZ(end.x(), end.y(), end.z()));
+  map->insert(hit, lineVoxel(0));
   return map;
+}
+
+/// The paper's gain with one ray, `voxels` voxels long: from a voxel centre along the
+/// line, it ends at another voxel's centre.
+GainConfig oneRayConfig(int voxels)
+{
+  GainConfig config = GainConfig::paper();
+  config.rays_x = config.rays_y = 1;
+  config.raycast_range_m = voxels * kRes;
+  return config;
 }
 
 /// The ROI of the line's voxels first..last (keys kLineK0 + i).
@@ -370,8 +386,7 @@ TEST(InformationGain, UpdateGivesTheSameSnapshotAndGainsAtAnyThreadCount)
   // line of voxels (fewer subtrees than threads) and on an empty map.
   const Plant& plant = test::plantWorld().plant;
   std::vector<Viewpoint> views = sectorViewsAndV0(5);
-  views.push_back(
-      lookingAlong(Eigen::Vector3d(centre(kLineK0 - 50), kLineY, kLineZ), 0.0));
+  views.push_back(lookingAlong(lineVoxel(-50), 0.0));
   const std::pair<const char*, std::shared_ptr<const OccupancyMap>> maps[] = {
       {"plant", test::plantMap()},
       {"line", lineWithAHitAt5()},
@@ -450,23 +465,18 @@ TEST(InformationGain, VisibilityWeightedGainByHand)
 {
   // One ray along +x from a voxel centre, 10 voxels long: voxels 0..9 by computeRayKeys,
   // then the end voxel 10; 0-4 free, 5 occupied, 6-10 unknown (lineWithAHitAt5).
-  const int k0 = kLineK0;
-  const double y = kLineY, z = kLineZ;
   const auto map = lineWithAHitAt5();
   std::vector<double> p(11);
   for (int i = 0; i <= 10; ++i)
-    p[static_cast<std::size_t>(i)] =
-        map->probability(Eigen::Vector3d(centre(k0 + i), y, z));
+    p[static_cast<std::size_t>(i)] = map->probability(lineVoxel(i));
   ASSERT_NEAR(p[0], 0.4, 1e-6);
   ASSERT_NEAR(p[5], 0.7, 1e-6);
   ASSERT_EQ(p[6], 0.5);
 
-  GainConfig config = GainConfig::paper();
-  config.rays_x = config.rays_y = 1;
-  config.raycast_range_m = 10 * kRes; // ends at the centre of voxel 10
+  GainConfig config = oneRayConfig(10); // ends at the centre of voxel 10
   // The ROI holds voxels 3..8.
   const Roi roi = lineVoxels(3, 8);
-  const Viewpoint view = lookingAlong(Eigen::Vector3d(centre(k0), y, z), 0.0);
+  const Viewpoint view = lookingAlong(lineVoxel(0), 0.0);
 
   double by_hand = 0.0, vis = 1.0;
   for (int i = 0; i <= 10; ++i) {
@@ -500,17 +510,13 @@ TEST(InformationGain, UnknownOnlyCountsNeverObservedVoxelsByHand)
 {
   // lineWithAHitAt5; the gain's ray starts in voxel 4 and looks along -x: 4..0 are
   // free, -1 on unknown; the ROI holds voxels -3..2.
-  const int k0 = kLineK0;
-  const double y = kLineY, z = kLineZ;
   const auto map = lineWithAHitAt5();
-  const double p_free = map->probability(Eigen::Vector3d(centre(k0), y, z));
+  const double p_free = map->probability(lineVoxel(0));
   ASSERT_NEAR(p_free, 0.4, 1e-6);
 
-  GainConfig config = GainConfig::paper();
-  config.rays_x = config.rays_y = 1;
-  config.raycast_range_m = 10 * kRes; // ends at the centre of voxel -6
+  GainConfig config = oneRayConfig(10); // ends at the centre of voxel -6
   const Roi roi = lineVoxels(-3, 2);
-  const Viewpoint view = lookingAlong(Eigen::Vector3d(centre(k0 + 4), y, z), M_PI);
+  const Viewpoint view = lookingAlong(lineVoxel(4), M_PI);
   InformationGain gain;
   gain.setInputMap(map);
   gain.setRoi(roi);
@@ -541,18 +547,14 @@ TEST(InformationGain, WithUnknownOnlyARayEndsAtTheLastUnknownVoxelItCounts)
 {
   // lineWithAHitAt5; the gain's ray starts in voxel -4 and looks along +x to the centre
   // of voxel 5: -4..-1 unknown, 0..4 free, 5 occupied; the ROI holds voxels -2..3.
-  const int k0 = kLineK0;
-  const double y = kLineY, z = kLineZ;
   const auto map = lineWithAHitAt5();
-  const double p_free = map->probability(Eigen::Vector3d(centre(k0), y, z));
+  const double p_free = map->probability(lineVoxel(0));
   ASSERT_NEAR(p_free, 0.4, 1e-6);
-  ASSERT_EQ(map->probability(Eigen::Vector3d(centre(k0 - 1), y, z)), 0.5);
+  ASSERT_EQ(map->probability(lineVoxel(-1)), 0.5);
 
-  GainConfig config = GainConfig::paper();
-  config.rays_x = config.rays_y = 1;
-  config.raycast_range_m = 9 * kRes;
+  GainConfig config = oneRayConfig(9); // ends at the centre of voxel 5
   const Roi roi = lineVoxels(-2, 3);
-  const Viewpoint view = lookingAlong(Eigen::Vector3d(centre(k0 - 4), y, z), 0.0);
+  const Viewpoint view = lookingAlong(lineVoxel(-4), 0.0);
   InformationGain gain;
   gain.setInputMap(map);
   gain.setRoi(roi);
