@@ -294,6 +294,10 @@ TEST(ReconstructionEvaluator, RejectsBadInput)
   EXPECT_THROW(evaluator.setLevels({{"whole", Roi({boxAround(0, 1)})}}),
                InvalidArgumentError); // no ground truth yet
   EXPECT_THROW(evaluator.setGroundTruth(Plant()), InvalidArgumentError);
+  std::vector<LevelScore> scores;
+  std::vector<OrganRecall> organs;
+  EXPECT_THROW(evaluator.computeOrganRecall(CloudXYZ(), organs), InvalidArgumentError);
+  EXPECT_THROW(evaluator.compute(CloudXYZ(), scores, organs), InvalidArgumentError);
   evaluator.setGroundTruth(squarePlant(0.0));
   EXPECT_THROW(evaluator.setLevels({{"whole", Roi()}}), InvalidArgumentError);
   EXPECT_THROW(

@@ -373,8 +373,6 @@ void ReconstructionEvaluator::compute(const CloudXYZ& reconstruction,
 void ReconstructionEvaluator::computeOrganRecall(const CloudXYZ& reconstruction,
                                                  std::vector<OrganRecall>& recalls) const
 {
-  if (!impl_->whole)
-    throw InvalidArgumentError("ReconstructionEvaluator: no ground truth set");
   scoreOrgans(withoutBackground(reconstruction), recalls);
 }
 
@@ -382,8 +380,6 @@ void ReconstructionEvaluator::compute(const CloudXYZ& reconstruction,
                                       std::vector<LevelScore>& scores,
                                       std::vector<OrganRecall>& recalls) const
 {
-  if (!impl_->whole)
-    throw InvalidArgumentError("ReconstructionEvaluator: no ground truth set");
   const CloudXYZConstPtr cloud = withoutBackground(reconstruction);
   scoreLevels(cloud, scores);
   scoreOrgans(cloud, recalls);
@@ -424,6 +420,8 @@ void ReconstructionEvaluator::scoreLevels(const CloudXYZConstPtr& cloud,
 void ReconstructionEvaluator::scoreOrgans(const CloudXYZConstPtr& cloud,
                                           std::vector<OrganRecall>& recalls) const
 {
+  if (!impl_->whole) // without it there are no levels either: nothing scored before
+    throw InvalidArgumentError("ReconstructionEvaluator: no ground truth set");
   ReconstructionMetrics& metrics = *impl_->whole;
   metrics.setNumberOfThreads(threads_);
   metrics.setReconstruction(cloud);
