@@ -185,6 +185,70 @@ TEST(RayTraversal, AdvanceBelowEqualsPerAxisAdditionsForRunsOfAnyLength)
     EXPECT_GT(c, 5000); // every length of run was tried
 }
 
+TEST(RayTraversal, AdvanceBelowTogetherEqualsEachRaysSequentialAdditions)
+{
+  // A frame's first jumps are advanced up to kRaysTogether rays at once (the additions
+  // all of them make on an axis side by side, the rest ray by ray): each ray's state is
+  // still its per-axis sequential additions, for neighbouring rays (nearly the same
+  // runs) and unrelated ones, runs from none (target behind t) to thousands, and axes a
+  // ray does not move along.
+  plantnbv::Rng rng(23);
+  const double kStill = std::numeric_limits<double>::max();
+  int groups_with_long_common_runs = 0;
+  for (int i = 0; i < 30000; ++i) {
+    const int count = 1 + i % rt::kRaysTogether;
+    const bool neighbours = (i / 4) % 2 == 0;
+    rt::MarchRay rays[rt::kRaysTogether];
+    const rt::MarchRay* ray_of[rt::kRaysTogether];
+    double targets[rt::kRaysTogether], t[rt::kRaysTogether][3],
+        expected_t[rt::kRaysTogether][3];
+    int k[rt::kRaysTogether][3], expected_k[rt::kRaysTogether][3];
+    const double runs = std::pow(10.0, rng.uniform(-0.5, 3.5)); // 0 to ~3000
+    int shortest_run = std::numeric_limits<int>::max();
+    for (int g = 0; g < count; ++g) {
+      rt::MarchRay& ray = rays[g];
+      ray = rt::MarchRay{};
+      ray_of[g] = &ray;
+      for (int a = 0; a < 3; ++a) {
+        ray.step[a] = rng.uniform() < 0.5 ? 1 : -1;
+        ray.dt[a] = neighbours && g > 0
+                        ? rays[0].dt[a] * (1.0 + 1e-3 * rng.uniform(-1, 1))
+                        : 0.003 / (0.01 + rng.uniform());
+        t[g][a] = rng.uniform() * ray.dt[a];
+        if ((neighbours ? i : i + g) % 11 == a) { // an axis the ray does not move along
+          ray.step[a] = 0;
+          ray.dt[a] = t[g][a] = kStill;
+        }
+      }
+      const int along = ray.step[0] != 0 ? 0 : 1;
+      targets[g] = neighbours && g > 0
+                       ? targets[0] + rng.uniform(-3.0, 3.0) * ray.dt[along]
+                       : t[g][along] + runs * rng.uniform(0.0, 1.0) * ray.dt[along];
+      for (int a = 0; a < 3; ++a) {
+        expected_t[g][a] = t[g][a];
+        expected_k[g][a] = k[g][a] = 1000 * (g + 1);
+        int n = 0;
+        for (; expected_t[g][a] < targets[g]; ++n)
+          expected_t[g][a] += ray.dt[a];
+        expected_k[g][a] += n * ray.step[a];
+        if (ray.step[a] != 0)
+          shortest_run = std::min(shortest_run, n);
+      }
+    }
+    if (count > 1 && shortest_run >= 16)
+      ++groups_with_long_common_runs;
+    rt::advanceBelowTogether(ray_of, targets, t, k, count);
+    for (int g = 0; g < count; ++g)
+      for (int a = 0; a < 3; ++a) {
+        ASSERT_EQ(expected_t[g][a], t[g][a])
+            << "group " << i << " ray " << g << " axis " << a;
+        ASSERT_EQ(expected_k[g][a], k[g][a])
+            << "group " << i << " ray " << g << " axis " << a;
+      }
+  }
+  EXPECT_GT(groups_with_long_common_runs, 3000); // the additions side by side were made
+}
+
 namespace {
 
 /// A region of bricks of 4^3 voxels drawn at random (about one in `one_in`).

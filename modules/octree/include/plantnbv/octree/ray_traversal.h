@@ -434,22 +434,104 @@ inline void advanceBelow(const MarchRay& ray, double target, double t[3], int k[
     k[a] += static_cast<int>(n[a]) * ray.step[a];
 }
 
+/// \brief The most rays advanceBelowTogether advances at once.
+constexpr int kRaysTogether = 4; // two SSE2 pairs per axis (advanceBelowTogether)
+
+namespace detail {
+/// Two doubles in one SSE2 register (GCC's and Clang's vector extension): the lanes make
+/// the same IEEE additions as scalar code.
+typedef double DoublePair __attribute__((vector_size(16)));
+} // namespace detail
+
+/// \brief advanceBelow for up to kRaysTogether rays at once, each to its own target: the
+/// same additions, so the same states. The additions that every ray of the group makes
+/// on an axis are made in SSE2 lanes, one chain per ray and axis, all side by side (one
+/// ray's three chains alone leave the core waiting on each addition); what each ray has
+/// left then goes through advanceBelow. Made for a frame's first jumps from the camera,
+/// where neighbouring pixels' rays make nearly the same 50-150 additions per axis.
+/// \param[in] rays, targets `count` rays (1 to kRaysTogether) and their targets.
+/// \param[in,out] t, k their states, as advanceBelow's.
+inline void advanceBelowTogether(const MarchRay* const rays[], const double targets[],
+                                 double t[][3], int k[][3], int count)
+{
+  using Pair = detail::DoublePair;
+  // Runs longer than this go through advanceBelow's bulk steps (O(binades), not O(n)).
+  constexpr double kMaxCommon = 2048.0;
+  // Additions every ray makes, per axis: a lower bound on each chain's count. After j
+  // additions of d to t0, all below the target, the sum differs from t0 + j d by j
+  // roundings of under 2^-53 of the target each; the keys bound a segment to under 2^17
+  // voxels (target / d < 2^17) and j to kMaxCommon, so that is far below the two
+  // additions (2 d) left out. The factor 1 + 1e-6 covers the division's rounding.
+  long long common[3];
+  for (int a = 0; a < 3; ++a) {
+    double fewest = kMaxCommon;
+    for (int g = 0; g < count; ++g) {
+      const double n = (targets[g] - t[g][a]) / (rays[g]->dt[a] * (1.0 + 1e-6)) - 2.0;
+      if (!(n >= fewest)) // NaN included
+        fewest = n;
+    }
+    common[a] = fewest > 0.0 ? static_cast<long long>(fewest) : 0;
+  }
+  // Ray g's chain of axis a: pair g / 2, element g % 2; lanes beyond `count` add 0 to 0.
+  const auto sumOf = [&](int g, int a) { return g < count ? t[g][a] : 0.0; };
+  const auto deltaOf = [&](int g, int a) { return g < count ? rays[g]->dt[a] : 0.0; };
+  // In registers: six chains side by side while every axis has additions to make, then
+  // the axes one by one.
+  Pair x0 = {sumOf(0, 0), sumOf(1, 0)}, x1 = {sumOf(2, 0), sumOf(3, 0)},
+       y0 = {sumOf(0, 1), sumOf(1, 1)}, y1 = {sumOf(2, 1), sumOf(3, 1)},
+       z0 = {sumOf(0, 2), sumOf(1, 2)}, z1 = {sumOf(2, 2), sumOf(3, 2)};
+  const Pair dx0 = {deltaOf(0, 0), deltaOf(1, 0)}, dx1 = {deltaOf(2, 0), deltaOf(3, 0)},
+             dy0 = {deltaOf(0, 1), deltaOf(1, 1)}, dy1 = {deltaOf(2, 1), deltaOf(3, 1)},
+             dz0 = {deltaOf(0, 2), deltaOf(1, 2)}, dz1 = {deltaOf(2, 2), deltaOf(3, 2)};
+  const long long all = std::min(common[0], std::min(common[1], common[2]));
+  for (long long r = 0; r < all; ++r) {
+    x0 += dx0;
+    x1 += dx1;
+    y0 += dy0;
+    y1 += dy1;
+    z0 += dz0;
+    z1 += dz1;
+  }
+  for (long long r = all; r < common[0]; ++r) {
+    x0 += dx0;
+    x1 += dx1;
+  }
+  for (long long r = all; r < common[1]; ++r) {
+    y0 += dy0;
+    y1 += dy1;
+  }
+  for (long long r = all; r < common[2]; ++r) {
+    z0 += dz0;
+    z1 += dz1;
+  }
+  const Pair out[3][2] = {{x0, x1}, {y0, y1}, {z0, z1}};
+  for (int g = 0; g < count; ++g) {
+    for (int a = 0; a < 3; ++a) {
+      t[g][a] = out[a][g / 2][g % 2];
+      k[g][a] += static_cast<int>(common[a]) * rays[g]->step[a];
+    }
+    advanceBelow(*rays[g], targets[g], t[g], k[g]); // what the ray has left
+  }
+}
+
 namespace detail {
 /// What traverseRayInRegion's jump did: no brick of the region before the end; the
 /// state moved on (the visitor resumes there); or nothing, the gap is walked.
 enum class Jump { stop, jumped, walk };
 
-/// traverseRayInRegion's jump, out of line (rare; the walk's state stays in registers):
-/// to kJumpMarginVoxels short of the next brick of the region, at most to `checks_from`.
-/// The march starts at `march_from` (at most `checks_from`) when that lies past
-/// `t_entry`, the ray's place now: the ray enters no brick of the region before it (a
-/// RegionHorizon bound). Otherwise it starts at the ray's place, and a gap shorter than
-/// kMinJumpVoxels is walked: `walk_until` is then where it ends, and the result `walk`.
+/// Where traverseRayInRegion's jump goes: to kJumpMarginVoxels short of the next brick
+/// of the region, at most to `checks_from`. The march starts at `march_from` (at most
+/// `checks_from`) when that lies past `t_entry`, the ray's place now: the ray enters no
+/// brick of the region before it (a RegionHorizon bound). Otherwise it starts at the
+/// ray's place, and a gap shorter than kMinJumpVoxels is walked: `walk_until` is then
+/// where it ends, and the result `walk`. `jumped`: the state (at key k) is to be advanced
+/// below `advance_to` (advanceBelow); jumpToNextBrick does it at once, a frame's first
+/// jumps are advanced several rays together (startRaysInRegion).
 template <typename Region>
-[[gnu::noinline]] Jump
-jumpToNextBrick(const MarchRay& march, const VoxelLattice& lattice, const Region& region,
-                double length, double checks_from, double t_entry, double march_from,
-                double t[3], int k[3], double& walk_until)
+inline Jump planJump(const MarchRay& march, const VoxelLattice& lattice,
+                     const Region& region, double length, double checks_from,
+                     double t_entry, double march_from, const int k[3],
+                     double& walk_until, double& advance_to)
 {
   constexpr int shift = Region::kBrickShift;
   const double margin = kJumpMarginVoxels * lattice.resolution();
@@ -488,8 +570,24 @@ jumpToNextBrick(const MarchRay& march, const VoxelLattice& lattice, const Region
     walk_until = entry;
     return Jump::walk;
   }
-  advanceBelow(march, std::max(target, t_entry), t, k);
+  advance_to = std::max(target, t_entry);
   return Jump::jumped;
+}
+
+/// traverseRayInRegion's jump (planJump, then the state advanced), out of line (rare;
+/// the walk's state stays in registers).
+template <typename Region>
+[[gnu::noinline]] Jump
+jumpToNextBrick(const MarchRay& march, const VoxelLattice& lattice, const Region& region,
+                double length, double checks_from, double t_entry, double march_from,
+                double t[3], int k[3], double& walk_until)
+{
+  double advance_to;
+  const Jump j = planJump(march, lattice, region, length, checks_from, t_entry,
+                          march_from, k, walk_until, advance_to);
+  if (j == Jump::jumped)
+    advanceBelow(march, advance_to, t, k);
+  return j;
 }
 
 /// The jump as traverseRayInRegion's loop sees it: its state in and out, and the visitor
@@ -514,61 +612,145 @@ inline Jump jumpInRegion(const float origin[3], const RaySetup& s,
 }
 } // namespace detail
 
-/// \brief traverseRay restricted to a region of bricks (cubes of voxels aligned with the
-/// octree, as the region's brick shift says; e.g. UpdateRegion): every voxel of
-/// traverseRay's sequence that lies in a brick of the region (`region.containsBrick(bx,
-/// by, bz)`) reaches the visitor, in order, as there; runs of bricks outside it are
-/// jumped over (nextBrickEntry, then advanceBelow) where they are long enough to pay, and
-/// their voxels may or may not reach it. The visitor gets `begin(kx, ky, kz, step)` for
-/// the origin's voxel (whatever its brick), `next(axis, kx, ky, kz, t_entry)` for a voxel
-/// one step from the last one it got (either may return bool, as in traverseRay, which
-/// is this walk over WholeLattice), and `resume(kx, ky, kz)` after a jump: the ray's
-/// current voxel (not visited), from which the next `next` steps.
-/// \param[in] clear_until metres along the ray before which it comes no nearer than far
-/// above rounding to a brick of the region (RegionHorizon::clearDistance, whose bricks
-/// are grown by 0.01 voxel; 0: unknown): the first jump marches the bricks from the
-/// ray's point there instead of from the origin.
-template <typename Region, typename Visitor>
-void traverseRayInRegion(const float origin[3], const float end[3],
-                         const int key_origin[3], const int key_end[3],
-                         const VoxelLattice& lattice, const Region& region,
-                         Visitor& visitor, double clear_until)
+/// \brief A ray of traverseRayInRegion between its start (setupRay, and the first jump
+/// planned: startRayInRegion; then advanced, alone or with others: startRaysInRegion)
+/// and its walk (walkRayInRegion). Plain data.
+struct RegionRayStart {
+  /// \brief What the walk does from here.
+  enum class State {
+    nothing, ///< origin and end share a voxel: no voxel at all
+    origin,  ///< the origin's voxel only: no brick of the region on the way
+    walk,    ///< walk from the origin (its brick in the region, or a short first gap)
+    jumped,  ///< walk from (t, k): the first jump, advanced
+    to_jump  ///< startRayInRegion: the first jump, to be advanced below `advance_to`
+  };
+  State state = State::nothing; ///< what the walk does from here
+  RaySetup setup;               ///< setupRay's (valid unless `nothing`)
+  MarchRay march;          ///< to_jump / jumped: the ray as the march and advance see it
+  double t[3] = {0, 0, 0}; ///< the DDA's t_max per axis
+  int k[3] = {0, 0, 0};    ///< the current voxel's key
+  double walk_until = 0.0; ///< no brick is checked before (a short gap being walked)
+  double advance_to = 0.0; ///< to_jump: the first jump's target
+};
+
+/// \brief traverseRayInRegion's start: the setup, and where its first jump goes when the
+/// origin's brick is not in the region (planJump; the state not yet advanced: to_jump).
+template <typename Region>
+inline void startRayInRegion(const float origin[3], const float end[3],
+                             const int key_origin[3], const int key_end[3],
+                             const VoxelLattice& lattice, const Region& region,
+                             double clear_until, RegionRayStart& r)
 {
+  using State = RegionRayStart::State;
+  constexpr int shift = Region::kBrickShift;
+  if (!setupRay(origin, end, key_origin, key_end, lattice, r.setup)) {
+    r.state = State::nothing;
+    return;
+  }
+  for (int a = 0; a < 3; ++a) {
+    r.t[a] = r.setup.t_max[a];
+    r.k[a] = key_origin[a];
+  }
+  r.walk_until = 0.0;
+  r.state = State::walk;
+  if constexpr (!std::is_same_v<Region, WholeLattice>) {
+    if (region.containsBrick(r.k[0] >> shift, r.k[1] >> shift, r.k[2] >> shift))
+      return;
+    r.march = marchRay(origin, r.setup);
+    const double checks_from = r.setup.length - 2.0 * lattice.resolution();
+    const detail::Jump j =
+        detail::planJump(r.march, lattice, region, r.setup.length, checks_from, 0.0,
+                         clear_until, r.k, r.walk_until, r.advance_to);
+    r.state = j == detail::Jump::stop   ? State::origin
+              : j == detail::Jump::walk ? State::walk
+                                        : State::to_jump;
+  }
+}
+
+/// \brief startRayInRegion for `count` (1 to kRaysTogether) rays from one origin, their
+/// first jumps advanced together (advanceBelowTogether): the same states as one by one.
+/// Neighbouring pixels' rays make nearly the same additions from the camera to the
+/// region. `clear_until[i]` as traverseRayInRegion's.
+template <typename Region>
+inline void startRaysInRegion(const float origin[3], const float* const ends[],
+                              const int key_origin[3], const int* const key_ends[],
+                              const double clear_until[], int count,
+                              const VoxelLattice& lattice, const Region& region,
+                              RegionRayStart starts[])
+{
+  using State = RegionRayStart::State;
+  const MarchRay* rays[kRaysTogether];
+  double targets[kRaysTogether];
+  double t[kRaysTogether][3];
+  int k[kRaysTogether][3];
+  int index[kRaysTogether];
+  int jumping = 0;
+  for (int i = 0; i < count; ++i) {
+    RegionRayStart& r = starts[i];
+    startRayInRegion(origin, ends[i], key_origin, key_ends[i], lattice, region,
+                     clear_until[i], r);
+    if (r.state != State::to_jump)
+      continue;
+    rays[jumping] = &r.march;
+    targets[jumping] = r.advance_to;
+    std::copy(r.t, r.t + 3, t[jumping]);
+    std::copy(r.k, r.k + 3, k[jumping]);
+    index[jumping++] = i;
+  }
+  if (jumping == 0)
+    return;
+  advanceBelowTogether(rays, targets, t, k, jumping);
+  for (int j = 0; j < jumping; ++j) {
+    RegionRayStart& r = starts[index[j]];
+    std::copy(t[j], t[j] + 3, r.t);
+    std::copy(k[j], k[j] + 3, r.k);
+    r.state = State::jumped;
+  }
+}
+
+/// \brief traverseRayInRegion's walk from a start (startRayInRegion, its first jump
+/// advanced; or startRaysInRegion): the visitor's `begin`, then `resume` after a first
+/// jump, then `next` for each voxel, as traverseRayInRegion describes.
+template <typename Region, typename Visitor>
+void walkRayInRegion(const float origin[3], const int key_origin[3], const int key_end[3],
+                     const VoxelLattice& lattice, const Region& region,
+                     const RegionRayStart& r, Visitor& visitor)
+{
+  using State = RegionRayStart::State;
   constexpr bool kJumps = !std::is_same_v<Region, WholeLattice>;
   constexpr int shift = Region::kBrickShift;
-  RaySetup s;
-  if (!setupRay(origin, end, key_origin, key_end, lattice, s))
+  if (r.state == State::nothing)
     return;
+  const RaySetup& s = r.setup;
   if (!detail::proceed([&] {
         return visitor.begin(key_origin[0], key_origin[1], key_origin[2], s.step);
       }))
     return;
+  if (r.state == State::origin)
+    return;
 
   // The loop in scalars, not arrays indexed by the axis, which the compiler keeps in
   // registers (several times faster per step). Same operations in the same order.
-  double tx = s.t_max[0], ty = s.t_max[1], tz = s.t_max[2];
+  double tx = r.t[0], ty = r.t[1], tz = r.t[2];
   const double dx = s.t_delta[0], dy = s.t_delta[1], dz = s.t_delta[2];
   const int sx = s.step[0], sy = s.step[1], sz = s.step[2];
   const int ex = key_end[0], ey = key_end[1], ez = key_end[2];
   const float length = s.length;
-  int kx = key_origin[0], ky = key_origin[1], kz = key_origin[2];
+  int kx = r.k[0], ky = r.k[1], kz = r.k[2];
   // A voxel entered more than two voxels (> sqrt(3)) short of the segment's length is
   // left before it: it is not the end voxel, and OctoMap's length rule cannot stop there.
   const double checks_from = length - 2.0 * lattice.resolution();
 
   // The region's jumps (none over the whole lattice; detail::jumpToNextBrick). Within a
   // gap being walked (shorter than kMinJumpVoxels) no brick is checked.
-  double walk_until = 0.0;
+  double walk_until = r.walk_until;
   const int mask = (1 << shift) - 1;
   // key & mask right after a step into a new brick, per axis.
   const int wrap_x = sx > 0 ? 0 : mask, wrap_y = sy > 0 ? 0 : mask,
             wrap_z = sz > 0 ? 0 : mask;
   if constexpr (kJumps)
-    if (!region.containsBrick(kx >> shift, ky >> shift, kz >> shift) &&
-        detail::jumpInRegion(origin, s, lattice, region, checks_from, 0.0, clear_until,
-                             tx, ty, tz, kx, ky, kz, walk_until,
-                             visitor) == detail::Jump::stop)
-      return;
+    if (r.state == State::jumped)
+      visitor.resume(kx, ky, kz); // the current voxel was not visited
 
   for (;;) {
     double t_entry;
@@ -598,6 +780,36 @@ void traverseRayInRegion(const float origin[3], const float end[3],
     if (!detail::proceed([&] { return visitor.next(axis, kx, ky, kz, t_entry); }))
       break;
   }
+}
+
+/// \brief traverseRay restricted to a region of bricks (cubes of voxels aligned with the
+/// octree, as the region's brick shift says; e.g. UpdateRegion): every voxel of
+/// traverseRay's sequence that lies in a brick of the region (`region.containsBrick(bx,
+/// by, bz)`) reaches the visitor, in order, as there; runs of bricks outside it are
+/// jumped over (nextBrickEntry, then advanceBelow) where they are long enough to pay, and
+/// their voxels may or may not reach it. The visitor gets `begin(kx, ky, kz, step)` for
+/// the origin's voxel (whatever its brick), `next(axis, kx, ky, kz, t_entry)` for a voxel
+/// one step from the last one it got (either may return bool, as in traverseRay, which
+/// is this walk over WholeLattice), and `resume(kx, ky, kz)` after a jump: the ray's
+/// current voxel (not visited), from which the next `next` steps. startRayInRegion and
+/// walkRayInRegion are its two halves (startRaysInRegion starts several rays together).
+/// \param[in] clear_until metres along the ray before which it comes no nearer than far
+/// above rounding to a brick of the region (RegionHorizon::clearDistance, whose bricks
+/// are grown by 0.01 voxel; 0: unknown): the first jump marches the bricks from the
+/// ray's point there instead of from the origin.
+template <typename Region, typename Visitor>
+void traverseRayInRegion(const float origin[3], const float end[3],
+                         const int key_origin[3], const int key_end[3],
+                         const VoxelLattice& lattice, const Region& region,
+                         Visitor& visitor, double clear_until)
+{
+  RegionRayStart r;
+  startRayInRegion(origin, end, key_origin, key_end, lattice, region, clear_until, r);
+  if (r.state == RegionRayStart::State::to_jump) {
+    advanceBelow(r.march, r.advance_to, r.t, r.k);
+    r.state = RegionRayStart::State::jumped;
+  }
+  walkRayInRegion(origin, key_origin, key_end, lattice, region, r, visitor);
 }
 
 } // namespace ray_traversal
