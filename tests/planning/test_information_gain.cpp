@@ -117,8 +117,7 @@ GainConfig oneRayConfig(int voxels)
 /// The ROI of the line's voxels first..last (keys kLineK0 + i).
 Roi lineVoxels(int first, int last)
 {
-  const double x = 0.5 * (centre(kLineK0 + first) + centre(kLineK0 + last));
-  return Roi({Box(Eigen::Vector3d(x, kLineY, kLineZ),
+  return Roi({Box(0.5 * (lineVoxel(first) + lineVoxel(last)),
                   Eigen::Vector3d((last - first) * kRes + 1e-6, 1e-6, 1e-6))});
 }
 

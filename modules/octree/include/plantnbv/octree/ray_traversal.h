@@ -519,6 +519,15 @@ namespace detail {
 /// state moved on (the visitor resumes there); or nothing, the gap is walked.
 enum class Jump { stop, jumped, walk };
 
+/// Where a walk starts to check OctoMap's stop rules: a voxel entered more than two
+/// voxels (> sqrt(3)) short of the segment's length is left before it, so it is not the
+/// end voxel and OctoMap's length rule cannot stop there.
+inline double checksFrom(const RaySetup& s, const VoxelLattice& lattice)
+{
+  const float length = s.length;
+  return length - 2.0 * lattice.resolution();
+}
+
 /// Where traverseRayInRegion's jump goes: to kJumpMarginVoxels short of the next brick
 /// of the region, at most to `checks_from`. The march starts at `march_from` (at most
 /// `checks_from`) when that lies past `t_entry`, the ray's place now: the ray enters no
@@ -622,7 +631,7 @@ struct RegionRayStart {
     origin,  ///< the origin's voxel only: no brick of the region on the way
     walk,    ///< walk from the origin (its brick in the region, or a short first gap)
     jumped,  ///< walk from (t, k): the first jump, advanced
-    to_jump  ///< startRayInRegion: the first jump, to be advanced below `advance_to`
+    to_jump  ///< the first jump planned, to be advanced below `advance_to`
   };
   State state = State::nothing; ///< what the walk does from here
   RaySetup setup;               ///< setupRay's (valid unless `nothing`)
@@ -657,10 +666,9 @@ inline void startRayInRegion(const float origin[3], const float end[3],
     if (region.containsBrick(r.k[0] >> shift, r.k[1] >> shift, r.k[2] >> shift))
       return;
     r.march = marchRay(origin, r.setup);
-    const double checks_from = r.setup.length - 2.0 * lattice.resolution();
-    const detail::Jump j =
-        detail::planJump(r.march, lattice, region, r.setup.length, checks_from, 0.0,
-                         clear_until, r.k, r.walk_until, r.advance_to);
+    const detail::Jump j = detail::planJump(r.march, lattice, region, r.setup.length,
+                                            detail::checksFrom(r.setup, lattice), 0.0,
+                                            clear_until, r.k, r.walk_until, r.advance_to);
     r.state = j == detail::Jump::stop   ? State::origin
               : j == detail::Jump::walk ? State::walk
                                         : State::to_jump;
@@ -708,9 +716,10 @@ inline void startRaysInRegion(const float origin[3], const float* const ends[],
   }
 }
 
-/// \brief traverseRayInRegion's walk from a start (startRayInRegion, its first jump
-/// advanced; or startRaysInRegion): the visitor's `begin`, then `resume` after a first
-/// jump, then `next` for each voxel, as traverseRayInRegion describes.
+/// \brief traverseRayInRegion's walk from a start (startRayInRegion, whose first jump it
+/// advances; or startRaysInRegion, which advanced it): the visitor's `begin`, then
+/// `resume` after a first jump, then `next` for each voxel, as traverseRayInRegion
+/// describes.
 template <typename Region, typename Visitor>
 void walkRayInRegion(const float origin[3], const int key_origin[3], const int key_end[3],
                      const VoxelLattice& lattice, const Region& region,
@@ -737,9 +746,7 @@ void walkRayInRegion(const float origin[3], const int key_origin[3], const int k
   const int ex = key_end[0], ey = key_end[1], ez = key_end[2];
   const float length = s.length;
   int kx = r.k[0], ky = r.k[1], kz = r.k[2];
-  // A voxel entered more than two voxels (> sqrt(3)) short of the segment's length is
-  // left before it: it is not the end voxel, and OctoMap's length rule cannot stop there.
-  const double checks_from = length - 2.0 * lattice.resolution();
+  const double checks_from = detail::checksFrom(s, lattice);
 
   // The region's jumps (none over the whole lattice; detail::jumpToNextBrick). Within a
   // gap being walked (shorter than kMinJumpVoxels) no brick is checked.
@@ -748,9 +755,17 @@ void walkRayInRegion(const float origin[3], const int key_origin[3], const int k
   // key & mask right after a step into a new brick, per axis.
   const int wrap_x = sx > 0 ? 0 : mask, wrap_y = sy > 0 ? 0 : mask,
             wrap_z = sz > 0 ? 0 : mask;
-  if constexpr (kJumps)
-    if (r.state == State::jumped)
+  if constexpr (kJumps) {
+    if (r.state == State::to_jump) { // a start of its own: advanced here
+      double t[3] = {tx, ty, tz};
+      int k[3] = {kx, ky, kz};
+      advanceBelow(r.march, r.advance_to, t, k);
+      tx = t[0], ty = t[1], tz = t[2];
+      kx = k[0], ky = k[1], kz = k[2];
+    }
+    if (r.state == State::jumped || r.state == State::to_jump)
       visitor.resume(kx, ky, kz); // the current voxel was not visited
+  }
 
   for (;;) {
     double t_entry;
@@ -805,10 +820,6 @@ void traverseRayInRegion(const float origin[3], const float end[3],
 {
   RegionRayStart r;
   startRayInRegion(origin, end, key_origin, key_end, lattice, region, clear_until, r);
-  if (r.state == RegionRayStart::State::to_jump) {
-    advanceBelow(r.march, r.advance_to, r.t, r.k);
-    r.state = RegionRayStart::State::jumped;
-  }
   walkRayInRegion(origin, key_origin, key_end, lattice, region, r, visitor);
 }
 
