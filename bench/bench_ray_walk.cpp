@@ -10,12 +10,16 @@
 //
 // What this leaves out of insertion: the blocks' lookup, the update region's jumps, the
 // tree update. It measures the step and the mark, which take most of a frame's walk.
+//
+// BM_FirstJumps*: the same frame's first jumps to a region (docs/performance.md, "First
+// jumps four rays at a time"), one ray at a time and four neighbours together.
 
 #include <algorithm>
 #include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <immintrin.h>
 #include <vector>
 
@@ -276,6 +280,93 @@ long long walkInLockstep4(const Frame& f, Bitset& bits)
   return steps;
 }
 
+/// A frame's first jumps (OccupancyMap::insert with an update region): every ray of the
+/// frame advanced from the camera to where it meets a region 0.3 m ahead (the plane x =
+/// 0.3 m: neighbouring rays nearly alike, 100-160 additions on the major axis). One ray
+/// at a time (advanceBelow) or four neighbours together (advanceBelowTogether).
+struct FirstJumps {
+  std::vector<rt::MarchRay> rays;
+  std::vector<double> targets;
+  std::vector<std::array<double, 3>> t;
+  std::vector<std::array<int, 3>> k;
+
+  explicit FirstJumps(const Frame& f)
+  {
+    for (std::size_t i = 0; i < f.ends.size(); ++i) {
+      rt::RaySetup s;
+      if (!rt::setupRay(f.origin, f.ends[i].data(), f.key_origin, f.key_ends[i].data(),
+                        f.lattice, s))
+        continue;
+      rays.push_back(rt::marchRay(f.origin, s));
+      targets.push_back(0.3 / rays.back().dir[0]);
+      t.push_back({s.t_max[0], s.t_max[1], s.t_max[2]});
+      k.push_back({f.key_origin[0], f.key_origin[1], f.key_origin[2]});
+    }
+  }
+};
+
+template <bool kTogether>
+void advanceFirstJumps(const FirstJumps& jumps, std::vector<std::array<double, 3>>& t,
+                       std::vector<std::array<int, 3>>& k)
+{
+  t = jumps.t;
+  k = jumps.k;
+  const std::size_t n = jumps.rays.size();
+  if (!kTogether) {
+    for (std::size_t i = 0; i < n; ++i)
+      rt::advanceBelow(jumps.rays[i], jumps.targets[i], t[i].data(), k[i].data());
+    return;
+  }
+  for (std::size_t i = 0; i < n; i += rt::kRaysTogether) {
+    const int count = static_cast<int>(std::min<std::size_t>(rt::kRaysTogether, n - i));
+    const rt::MarchRay* rays[rt::kRaysTogether];
+    double group_t[rt::kRaysTogether][3];
+    int group_k[rt::kRaysTogether][3];
+    for (int g = 0; g < count; ++g) { // in and out as startRaysInRegion copies them
+      const std::size_t j = i + static_cast<std::size_t>(g);
+      rays[g] = &jumps.rays[j];
+      std::copy(t[j].begin(), t[j].end(), group_t[g]);
+      std::copy(k[j].begin(), k[j].end(), group_k[g]);
+    }
+    rt::advanceBelowTogether(rays, &jumps.targets[i], group_t, group_k, count);
+    for (int g = 0; g < count; ++g) {
+      const std::size_t j = i + static_cast<std::size_t>(g);
+      std::copy(group_t[g], group_t[g] + 3, t[j].begin());
+      std::copy(group_k[g], group_k[g] + 3, k[j].begin());
+    }
+  }
+}
+
+/// Counters: ns_per_ray and, four together, same_states (1: each ray's state is the
+/// one-at-a-time advance's, bit for bit).
+template <bool kTogether>
+void BM_FirstJumps(benchmark::State& state)
+{
+  const FirstJumps jumps(frame());
+  std::vector<std::array<double, 3>> t;
+  std::vector<std::array<int, 3>> k;
+  double seconds = 0.0;
+  for (auto _ : state) {
+    const auto start = std::chrono::steady_clock::now();
+    advanceFirstJumps<kTogether>(jumps, t, k);
+    const double s =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    state.SetIterationTime(s);
+    seconds += s;
+  }
+  state.counters["ns_per_ray"] =
+      seconds * 1e9 /
+      (static_cast<double>(jumps.rays.size()) * static_cast<double>(state.iterations()));
+  if (kTogether) {
+    std::vector<std::array<double, 3>> t1;
+    std::vector<std::array<int, 3>> k1;
+    advanceFirstJumps<false>(jumps, t1, k1);
+    state.counters["same_states"] =
+        std::memcmp(t.data(), t1.data(), t.size() * sizeof t[0]) == 0 && k == k1 ? 1.0
+                                                                                 : 0.0;
+  }
+}
+
 /// Times `Walk` over the frame, the bitset cleared before each iteration. Counters:
 /// steps, ns_per_step and, for the lockstep walks, same_voxels (1: their bitset is the
 /// library's walk's).
@@ -324,6 +415,17 @@ BENCHMARK_TEMPLATE(BM_Walk, walkInLockstep4, true)
     ->Iterations(5);
 BENCHMARK_TEMPLATE(BM_Walk, walkInLockstep8, true)
     ->Name("BM_Lockstep8")
+    ->Unit(benchmark::kMillisecond)
+    ->UseManualTime()
+    ->Iterations(5);
+
+BENCHMARK_TEMPLATE(BM_FirstJumps, false)
+    ->Name("BM_FirstJumpsOneAtATime")
+    ->Unit(benchmark::kMillisecond)
+    ->UseManualTime()
+    ->Iterations(5);
+BENCHMARK_TEMPLATE(BM_FirstJumps, true)
+    ->Name("BM_FirstJumpsTogether")
     ->Unit(benchmark::kMillisecond)
     ->UseManualTime()
     ->Iterations(5);
