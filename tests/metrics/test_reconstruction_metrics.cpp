@@ -4,6 +4,7 @@
 #include <limits>
 #include <memory>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -531,6 +532,104 @@ TEST(ReconstructionMetrics, SettingACloudAgainReplacesIt)
 
   ReconstructionMetrics moved(std::move(metrics));
   EXPECT_EQ(moved.compute().f1, 1.0);
+}
+
+/// The voxel centre (3 mm voxels) nearest to p: clouds like a map's occupied voxels,
+/// where many points lie at equal distances from each other.
+pcl::PointXYZ voxelCentre(const pcl::PointXYZ& p)
+{
+  const auto centre = [](float v) {
+    return float((std::floor(v / 0.003) + 0.5) * 0.003);
+  };
+  return pcl::PointXYZ(centre(p.x), centre(p.y), centre(p.z));
+}
+
+TEST(ReconstructionMetrics, ReusedDistancesGiveTheResultsOfAFreshCompute)
+{
+  // A reconstruction that changes as a map's does from view to view: points added and
+  // removed (ties everywhere on the voxel lattice, so a removed nearest point often has
+  // a twin at the same distance, and often not), unchanged, reordered, duplicated, with
+  // NaN, empty; the reference changed half-way. Every compute() of the object that
+  // reuses distances must equal a fresh object's, bit for bit, at 1 and 2 threads.
+  std::vector<pcl::PointXYZ> pool;
+  Rng pool_rng(21);
+  for (int i = 0; i < 6000; ++i)
+    pool.push_back(voxelCentre(noisySphere(pool_rng)));
+  const auto reference_a =
+      randomCloud(5000, 22, [](Rng& rng) { return voxelCentre(noisySphere(rng)); });
+  const auto reference_b = randomCloud(3000, 23, noisySphere);
+  for (int threads : {1, 2}) {
+    SCOPED_TRACE("threads " + std::to_string(threads));
+    ReconstructionMetrics reusing;
+    reusing.setNumberOfThreads(threads);
+    EXPECT_FALSE(reusing.getReuseDistances());
+    reusing.setReuseDistances(true);
+    EXPECT_TRUE(reusing.getReuseDistances());
+    reusing.setReference(reference_a);
+    auto reference = reference_a;
+    Rng rng(24);
+    std::vector<pcl::PointXYZ> points(pool.begin(), pool.begin() + 300);
+    for (int step = 0; step < 24; ++step) {
+      SCOPED_TRACE("step " + std::to_string(step));
+      if (step == 12) { // another reference: nothing kept may be reused
+        reference = reference_b;
+        reusing.setReference(reference);
+      }
+      if (step == 18) {
+        reusing.setReuseDistances(false);
+        reusing.setReuseDistances(true);
+      }
+      // Remove a share of the points, add new ones from the pool.
+      std::vector<pcl::PointXYZ> next;
+      const double keep = step % 5 == 3 ? 1.0 : 0.9;
+      for (const pcl::PointXYZ& p : points)
+        if (rng.uniform() < keep)
+          next.push_back(p);
+      if (step % 5 != 3)
+        for (int i = 0; i < 250; ++i)
+          next.push_back(pool[rng.index(pool.size())]); // duplicates too
+      for (std::size_t i = next.size(); i > 1; --i)     // reordered
+        std::swap(next[i - 1], next[rng.index(i)]);
+      points = next;
+      auto cloud = makeCloud(step == 7 ? std::vector<pcl::PointXYZ>{} : points);
+      if (step % 4 == 1)
+        cloud->push_back(pcl::PointXYZ(kNaN, 0.0f, 1.0f));
+      reusing.setReconstruction(cloud);
+      expectIdentical(reusing.compute(),
+                      computeMetrics(cloud, reference, 0.003, threads));
+    }
+  }
+}
+
+TEST(ReconstructionMetrics, ComputesFromSeveralThreadsWhileReusingDistances)
+{
+  // compute() stays callable from several threads at once: one of them uses and updates
+  // the kept distances, the others search in full; all get the fresh result.
+  const auto reference = randomCloud(4000, 25, noisySphere);
+  auto first = randomCloud(3000, 26, noisySphere);
+  auto second = std::make_shared<CloudXYZ>(*first);
+  second->resize(2500);
+  for (const pcl::PointXYZ& p : *randomCloud(400, 27, noisySphere))
+    second->push_back(p);
+  ReconstructionMetrics metrics;
+  metrics.setNumberOfThreads(1);
+  metrics.setReuseDistances(true);
+  metrics.setReference(reference);
+  metrics.setReconstruction(first);
+  metrics.compute();
+  metrics.setReconstruction(second);
+  const MetricsResult expected = computeMetrics(second, reference, 0.003, 1);
+  std::vector<MetricsResult> results(4 * 8);
+  std::vector<std::thread> threads;
+  for (int t = 0; t < 4; ++t)
+    threads.emplace_back([&, t] {
+      for (int i = 0; i < 8; ++i)
+        results[static_cast<std::size_t>(t * 8 + i)] = metrics.compute();
+    });
+  for (std::thread& thread : threads)
+    thread.join();
+  for (const MetricsResult& m : results)
+    expectIdentical(m, expected);
 }
 
 TEST(ReconstructionMetrics, InvalidSettingsThrow)

@@ -316,6 +316,7 @@ void ReconstructionEvaluator::setLevels(const std::vector<EvaluationLevel>& leve
       auto metrics = std::make_unique<ReconstructionMetrics>();
       metrics->setThreshold(resolution_m_);
       metrics->setNumberOfThreads(threads_);
+      metrics->setReuseDistances(true); // a trial's reconstruction grows view by view
       metrics->setReference(impl_->reference[l].back());
       impl_->metrics[l].push_back(std::move(metrics));
     }

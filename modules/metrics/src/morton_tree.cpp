@@ -525,6 +525,38 @@ PLANTNBV_HOT_INLINE double MortonTree::seededNearest(const double q[3], double b
   return best;
 }
 
+PLANTNBV_HOT_INLINE double MortonTree::nearestBelow(const double q[3], double bound,
+                                                    std::uint32_t& best_index,
+                                                    Cursor& cursor) const
+{
+  // The previous query's nearest point bounds this one's distance (coherent order).
+  best_index = cursor.seed;
+  double best = best_index == kNone ? kInf : sqrDist(q, best_index);
+  if (!(best < bound)) { // the seed is too far: only nearer points count
+    best = bound;
+    best_index = kNone;
+  }
+  best = seededNearest(q, best, best_index, cursor);
+  cursor.seed = best_index;
+  return best;
+}
+
+template <typename Block>
+void MortonTree::queryBlocks(const MortonTree& queries, int threads, Block&& block) const
+{
+  const std::size_t n = queries.size();
+  const auto blocks = static_cast<long long>((n + kBlock - 1) / kBlock);
+#pragma omp parallel num_threads(threads)
+  {
+    Cursor cursor;
+#pragma omp for schedule(dynamic, 1)
+    for (long long b = 0; b < blocks; ++b) {
+      const std::size_t begin = static_cast<std::size_t>(b) * kBlock;
+      block(static_cast<std::size_t>(b), begin, std::min(n, begin + kBlock), cursor);
+    }
+  }
+}
+
 void MortonTree::nearestOfEach(const MortonTree& queries, int threads,
                                const BlockFn& block, double max_dist) const
 {
@@ -532,33 +564,42 @@ void MortonTree::nearestOfEach(const MortonTree& queries, int threads,
   // after max_dist^2 rounded): the search, which only looks for points strictly nearer
   // than its best, starts from it.
   const double bound = max_dist < kInf ? std::nextafter(max_dist * max_dist, kInf) : kInf;
-  const std::size_t n = queries.size();
-  const auto blocks = static_cast<long long>((n + kBlock - 1) / kBlock);
-#pragma omp parallel num_threads(threads)
-  {
-    Cursor cursor;
-    double dists[kBlock];
-#pragma omp for schedule(dynamic, 1)
-    for (long long b = 0; b < blocks; ++b) {
-      const std::size_t begin = static_cast<std::size_t>(b) * kBlock;
-      const std::size_t end = std::min(n, begin + kBlock);
-      for (std::size_t k = begin; k < end; ++k) {
-        const double q[3] = {queries.xs_[k], queries.ys_[k], queries.zs_[k]};
-        // The previous query's nearest point bounds this one's distance (coherent order).
-        std::uint32_t best_index = cursor.seed;
-        double best = best_index == kNone ? kInf : sqrDist(q, best_index);
-        if (!(best < bound)) { // the seed is too far: only nearer points count
-          best = bound;
-          best_index = kNone;
-        }
-        best = seededNearest(q, best, best_index, cursor);
-        cursor.seed = best_index;
-        const double dist = best_index == kNone ? kInf : std::sqrt(best);
-        dists[k - begin] = dist < max_dist ? dist : kInf;
-      }
-      block(static_cast<std::size_t>(b), begin, end, dists);
-    }
-  }
+  queryBlocks(queries, threads,
+              [&](std::size_t b, std::size_t begin, std::size_t end, Cursor& cursor) {
+                double dists[kBlock];
+                for (std::size_t k = begin; k < end; ++k) {
+                  const double q[3] = {queries.xs_[k], queries.ys_[k], queries.zs_[k]};
+                  std::uint32_t best_index;
+                  const double best = nearestBelow(q, bound, best_index, cursor);
+                  const double dist = best_index == kNone ? kInf : std::sqrt(best);
+                  dists[k - begin] = dist < max_dist ? dist : kInf;
+                }
+                block(b, begin, end, dists);
+              });
+}
+
+void MortonTree::nearestSquaredOfEach(const MortonTree& queries, int threads,
+                                      const double* bounds, double* out) const
+{
+  queryBlocks(queries, threads,
+              [&](std::size_t, std::size_t begin, std::size_t end, Cursor& cursor) {
+                for (std::size_t k = begin; k < end; ++k) {
+                  const double q[3] = {queries.xs_[k], queries.ys_[k], queries.zs_[k]};
+                  std::uint32_t best_index;
+                  out[k] = nearestBelow(q, bounds ? bounds[k] : kInf, best_index, cursor);
+                }
+              });
+}
+
+MortonTreeInput MortonTree::sortedPoints() const
+{
+  MortonTreeInput input;
+  input.x = xs_.get();
+  input.y = ys_.get();
+  input.z = zs_.get();
+  input.stride_bytes = sizeof(float);
+  input.cloud_size = n_;
+  return input;
 }
 
 bool MortonTree::nearest(const double q[3], Neighbor& out) const

@@ -66,6 +66,16 @@ public:
   std::size_t cloudSize() const { return cloud_size_; }
   /// The cloud index of the point at tree position k (0 <= k < size()).
   std::uint32_t cloudIndex(std::size_t k) const { return orig_[k]; }
+  /// \brief The tree's own points as a build input, in tree order (cloud index =
+  /// tree position): a tree of some of them is built with `indices`.
+  MortonTreeInput sortedPoints() const;
+  /// The coordinates of the point at tree position k (0 <= k < size()).
+  void point(std::size_t k, float p[3]) const
+  {
+    p[0] = xs_[k];
+    p[1] = ys_[k];
+    p[2] = zs_[k];
+  }
 
   /// \brief For every point of `queries` (in its tree order), the distance (m, not
   /// squared) to the nearest point of this tree, which must not be empty. Blocks of
@@ -77,6 +87,13 @@ public:
   /// and every other is +infinity (the search for a point stops at max_dist).
   void nearestOfEach(const MortonTree& queries, int threads, const BlockFn& block,
                      double max_dist = std::numeric_limits<double>::infinity()) const;
+
+  /// \brief For every point of `queries` (in its tree order), out[k] = the smaller of
+  /// bounds[k] and the squared distance (m²) to the nearest point of this tree (without
+  /// `bounds`: that squared distance; the tree must then not be empty). The search for a
+  /// point stops at its bound, so tight bounds are cheap. Parallel as nearestOfEach().
+  void nearestSquaredOfEach(const MortonTree& queries, int threads, const double* bounds,
+                            double* out) const;
 
   /// \brief The nearest point to q; ties go to the smallest cloud index.
   /// \return false when the tree is empty.
@@ -131,6 +148,15 @@ private:
   /// `best_index` hold a known candidate on entry (or +infinity and kNone).
   double seededNearest(const double q[3], double best, std::uint32_t& best_index,
                        Cursor& cursor) const;
+  /// The queries in blocks of kBlockSize (tree order) on `threads` threads:
+  /// block(b, begin, end, cursor) with each thread's own cursor.
+  template <typename Block>
+  void queryBlocks(const MortonTree& queries, int threads, Block&& block) const;
+  /// The smaller of `bound` and the squared distance from q to the nearest point,
+  /// seeded with the cursor's last nearest point (updated; best_index kNone when no
+  /// point lies below the bound).
+  double nearestBelow(const double q[3], double bound, std::uint32_t& best_index,
+                      Cursor& cursor) const;
   /// Depth-first, nearer child first, from the root: leaf(begin, count) for every leaf
   /// whose box distance passes keep(sqr_dist), re-checked when a deferred child is
   /// resumed.

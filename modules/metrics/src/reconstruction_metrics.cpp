@@ -1,6 +1,9 @@
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <limits>
+#include <mutex>
 #include <omp.h>
 #include <string>
 
@@ -16,6 +19,7 @@
 namespace plantnbv {
 
 using detail::MortonTree;
+using detail::MortonTreeInput;
 
 namespace {
 
@@ -41,30 +45,31 @@ struct DirectedSums {
   double inlier_share = 0.0;
 };
 
-/// Mean distance and share below rho; both trees non-empty.
-DirectedSums directedMetrics(const MortonTree& queries, const MortonTree& targets,
-                             double rho, int threads)
+/// Mean distance and share below rho of squared distances (non-empty), summed in fixed
+/// blocks of kBlock, the block sums in block order: the same for any thread count.
+DirectedSums directedSums(const std::vector<double>& sqr_dists, double rho, int threads)
 {
-  const std::size_t n = queries.size();
-  const std::size_t blocks = (n + kBlock - 1) / kBlock;
-  std::vector<double> block_sum(blocks);
-  std::vector<std::size_t> block_inliers(blocks);
-  targets.nearestOfEach(
-      queries, threads,
-      [&](std::size_t b, std::size_t begin, std::size_t end, const double* dists) {
-        double sum = 0.0;
-        std::size_t inliers = 0;
-        for (std::size_t k = 0; k < end - begin; ++k) {
-          sum += dists[k];
-          inliers += dists[k] < rho;
-        }
-        block_sum[b] = sum;
-        block_inliers[b] = inliers;
-      });
-  // Fixed blocks summed in block order: the same result for any thread count.
+  const std::size_t n = sqr_dists.size();
+  const auto blocks = static_cast<long long>((n + kBlock - 1) / kBlock);
+  std::vector<double> block_sum(static_cast<std::size_t>(blocks));
+  std::vector<std::size_t> block_inliers(static_cast<std::size_t>(blocks));
+#pragma omp parallel for num_threads(threads) schedule(static)
+  for (long long b = 0; b < blocks; ++b) {
+    const std::size_t begin = static_cast<std::size_t>(b) * kBlock;
+    const std::size_t end = std::min(n, begin + kBlock);
+    double sum = 0.0;
+    std::size_t inliers = 0;
+    for (std::size_t k = begin; k < end; ++k) {
+      const double d = std::sqrt(sqr_dists[k]);
+      sum += d;
+      inliers += d < rho;
+    }
+    block_sum[static_cast<std::size_t>(b)] = sum;
+    block_inliers[static_cast<std::size_t>(b)] = inliers;
+  }
   double sum = 0.0;
   std::size_t inliers = 0;
-  for (std::size_t b = 0; b < blocks; ++b) {
+  for (std::size_t b = 0; b < block_sum.size(); ++b) {
     sum += block_sum[b];
     inliers += block_inliers[b];
   }
@@ -72,6 +77,196 @@ DirectedSums directedMetrics(const MortonTree& queries, const MortonTree& target
   out.mean = sum / static_cast<double>(n);
   out.inlier_share = static_cast<double>(inliers) / static_cast<double>(n);
   return out;
+}
+
+/// Points by their exact float coordinates, each with a squared distance (open
+/// addressing; a point's key is its coordinates' bit patterns).
+class PointTable {
+public:
+  /// Empties the table and makes room for n points.
+  void reset(std::size_t n)
+  {
+    std::size_t capacity = 16;
+    while (capacity < 2 * n)
+      capacity *= 2;
+    entries_.assign(capacity, Entry{});
+    mask_ = capacity - 1;
+    size_ = 0;
+  }
+  std::size_t size() const { return size_; }
+  /// Adds p with its squared distance (a point already there keeps its entry).
+  void insert(const float p[3], double sqr_dist)
+  {
+    Entry& e = entries_[slot(p)];
+    if (!e.used) {
+      e = {{bits(p[0]), bits(p[1]), bits(p[2])}, true, sqr_dist};
+      ++size_;
+    }
+  }
+  /// p's squared distance; false when p is not in the table.
+  bool find(const float p[3], double& sqr_dist) const
+  {
+    const Entry& e = entries_[slot(p)];
+    if (!e.used)
+      return false;
+    sqr_dist = e.sqr_dist;
+    return true;
+  }
+  /// f(p) for every point p of the table.
+  template <typename F>
+  void forEach(F&& f) const
+  {
+    for (const Entry& e : entries_)
+      if (e.used) {
+        float p[3];
+        for (int a = 0; a < 3; ++a)
+          std::memcpy(&p[a], &e.key[a], sizeof(float));
+        f(p);
+      }
+  }
+
+private:
+  struct Entry {
+    std::uint32_t key[3] = {0, 0, 0};
+    bool used = false;
+    double sqr_dist = 0.0;
+  };
+  static std::uint32_t bits(float v)
+  {
+    std::uint32_t b;
+    std::memcpy(&b, &v, sizeof b);
+    return b;
+  }
+  /// The index of p's entry, or of the empty one where it would go.
+  std::size_t slot(const float p[3]) const
+  {
+    const std::uint32_t x = bits(p[0]), y = bits(p[1]), z = bits(p[2]);
+    std::uint64_t h = ((std::uint64_t{x} << 32) | y) * 0x9E3779B97F4A7C15ull ^
+                      std::uint64_t{z} * 0xC2B2AE3D27D4EB4Full;
+    h ^= h >> 29;
+    for (std::size_t i = h & mask_;; i = (i + 1) & mask_) {
+      const Entry& e = entries_[i];
+      if (!e.used || (e.key[0] == x && e.key[1] == y && e.key[2] == z))
+        return i;
+    }
+  }
+
+  std::vector<Entry> entries_;
+  std::size_t mask_ = 0, size_ = 0;
+};
+
+/// What a compute() measured, kept for the next one (ReconstructionMetrics::
+/// setReuseDistances): R's points with their squared distances to T, and the squared
+/// distance of each point of T (in T's tree order) to R.
+struct DistanceMemo {
+  bool valid = false;
+  PointTable reconstruction;
+  std::vector<double> reference;
+};
+
+/// R's points (tree order) with their squared distances to T.
+PointTable tableOf(const MortonTree& r, const std::vector<double>& r_to_t)
+{
+  PointTable table;
+  table.reset(r.size());
+  for (std::size_t k = 0; k < r.size(); ++k) {
+    float p[3];
+    r.point(k, p);
+    table.insert(p, r_to_t[k]);
+  }
+  return table;
+}
+
+/// squaredDistances() from a valid memo of an earlier R; `current` gets R's table.
+void updateDistances(const MortonTree& r, const MortonTree& t, int threads,
+                     const DistanceMemo& memo, std::vector<double>& r_to_t,
+                     std::vector<double>& t_to_r, PointTable& current)
+{
+  // R's points the memo does not hold: their distances to T are searched.
+  std::vector<std::int32_t> added;
+  for (std::size_t k = 0; k < r.size(); ++k) {
+    float p[3];
+    r.point(k, p);
+    if (!memo.reconstruction.find(p, r_to_t[k]))
+      added.push_back(static_cast<std::int32_t>(k));
+  }
+  MortonTree added_tree;
+  MortonTreeInput input = r.sortedPoints();
+  input.has_indices = true;
+  input.indices = added.data();
+  input.num_indices = added.size();
+  added_tree.build(input, threads);
+  std::vector<double> sqr(added.size());
+  t.nearestSquaredOfEach(added_tree, threads, nullptr, sqr.data());
+  for (std::size_t j = 0; j < added_tree.size(); ++j)
+    r_to_t[added_tree.cloudIndex(j)] = sqr[j];
+  // The memo's points no longer in R.
+  current = tableOf(r, r_to_t);
+  std::vector<float> removed; // x, y, z of each
+  memo.reconstruction.forEach([&](const float p[3]) {
+    double unused;
+    if (!current.find(p, unused))
+      removed.insert(removed.end(), p, p + 3);
+  });
+  // T: a nearer point can only be a new one (searched below the earlier distance) ...
+  const std::vector<double>& before = memo.reference;
+  if (added_tree.size() > 0)
+    added_tree.nearestSquaredOfEach(t, threads, before.data(), t_to_r.data());
+  else
+    t_to_r = before;
+  // ... unless the earlier nearest point left R: a removed point at the earlier
+  // distance or nearer (ties included) sends the point to a full search.
+  if (removed.empty())
+    return;
+  MortonTree removed_tree;
+  MortonTreeInput removed_input;
+  removed_input.x = &removed[0];
+  removed_input.y = &removed[1];
+  removed_input.z = &removed[2];
+  removed_input.stride_bytes = 3 * sizeof(float);
+  removed_input.cloud_size = removed.size() / 3;
+  removed_tree.build(removed_input, threads);
+  std::vector<double> bound(t.size()), near_removed(t.size());
+  for (std::size_t k = 0; k < t.size(); ++k)
+    bound[k] = std::nextafter(before[k], kInf);
+  removed_tree.nearestSquaredOfEach(t, threads, bound.data(), near_removed.data());
+  for (std::size_t k = 0; k < t.size(); ++k)
+    if (near_removed[k] < bound[k]) {
+      float p[3];
+      t.point(k, p);
+      const double q[3] = {p[0], p[1], p[2]};
+      MortonTree::Neighbor nearest;
+      r.nearest(q, nearest);
+      t_to_r[k] = nearest.sqr_dist;
+    }
+}
+
+/// The squared distances of R's points to T and of T's points to R, both in their
+/// trees' order; both trees non-empty. With a valid memo of an earlier R (the same T),
+/// only what changed is searched (updateDistances): R's new points in T; for T, its
+/// points' distances to R's new points, bounded by their earlier distances, and a full
+/// search where an earlier nearest point may have left R. The memo is then R's. Each
+/// distance is the one a full search finds: the minimum of the same exact squared
+/// distances.
+void squaredDistances(const MortonTree& r, const MortonTree& t, int threads,
+                      DistanceMemo* memo, std::vector<double>& r_to_t,
+                      std::vector<double>& t_to_r)
+{
+  r_to_t.resize(r.size());
+  t_to_r.resize(t.size());
+  if (memo && memo->valid) {
+    PointTable current;
+    updateDistances(r, t, threads, *memo, r_to_t, t_to_r, current);
+    memo->reconstruction = std::move(current);
+  } else {
+    t.nearestSquaredOfEach(r, threads, nullptr, r_to_t.data());
+    r.nearestSquaredOfEach(t, threads, nullptr, t_to_r.data());
+    if (!memo)
+      return;
+    memo->reconstruction = tableOf(r, r_to_t);
+  }
+  memo->reference = t_to_r;
+  memo->valid = true;
 }
 
 void directedDistances(const MortonTree& queries, const MortonTree& targets, int threads,
@@ -97,6 +292,11 @@ void directedDistances(const MortonTree& queries, const MortonTree& targets, int
 struct ReconstructionMetrics::Impl {
   MortonTree reference, reconstruction;
   bool has_reference = false, has_reconstruction = false;
+  bool reuse_distances = false;
+  /// compute()'s memo (setReuseDistances); a compute() that finds it in use by another
+  /// thread searches in full and leaves it.
+  std::mutex memo_mutex;
+  DistanceMemo memo;
 };
 
 ReconstructionMetrics::ReconstructionMetrics() : impl_(std::make_unique<Impl>()) {}
@@ -112,6 +312,7 @@ void ReconstructionMetrics::setReference(const CloudXYZConstPtr& reference)
   if (!impl_)
     impl_ = std::make_unique<Impl>(); // moved-from object reused
   impl_->has_reference = false;       // stays unset if the build throws
+  impl_->memo.valid = false;          // its distances are to the old reference
   buildTree(impl_->reference, *reference, threadCount());
   impl_->has_reference = true;
 }
@@ -125,6 +326,20 @@ void ReconstructionMetrics::setReconstruction(const CloudXYZConstPtr& reconstruc
   impl_->has_reconstruction = false;
   buildTree(impl_->reconstruction, *reconstruction, threadCount());
   impl_->has_reconstruction = true;
+}
+
+void ReconstructionMetrics::setReuseDistances(bool reuse)
+{
+  if (!impl_)
+    impl_ = std::make_unique<Impl>();
+  impl_->reuse_distances = reuse;
+  if (!reuse)
+    impl_->memo = DistanceMemo{}; // its memory back
+}
+
+bool ReconstructionMetrics::getReuseDistances() const
+{
+  return impl_ && impl_->reuse_distances;
 }
 
 void ReconstructionMetrics::setThreshold(double rho)
@@ -173,8 +388,14 @@ MetricsResult ReconstructionMetrics::compute() const
     m.chamfer = kInf;
     return m;
   }
-  const DirectedSums accuracy = directedMetrics(r, t, rho_, threads);
-  const DirectedSums completeness = directedMetrics(t, r, rho_, threads);
+  std::vector<double> r_to_t, t_to_r;
+  {
+    std::unique_lock<std::mutex> lock(impl_->memo_mutex, std::defer_lock);
+    const bool memo = impl_->reuse_distances && lock.try_lock();
+    squaredDistances(r, t, threads, memo ? &impl_->memo : nullptr, r_to_t, t_to_r);
+  }
+  const DirectedSums accuracy = directedSums(r_to_t, rho_, threads);
+  const DirectedSums completeness = directedSums(t_to_r, rho_, threads);
   m.mean_dist_reconstruction_to_reference = accuracy.mean;
   m.mean_dist_reference_to_reconstruction = completeness.mean;
   m.chamfer = accuracy.mean + completeness.mean;
