@@ -55,10 +55,12 @@ CloudXYZConstPtr cloudOf(const py::handle& points, const char* argument)
 /// one ground truth.
 class MetricsEvaluator {
 public:
-  MetricsEvaluator(const py::handle& reference, double rho, int threads)
+  MetricsEvaluator(const py::handle& reference, double rho, int threads,
+                   bool reuse_distances)
   {
     metrics_.setNumberOfThreads(threads);
     metrics_.setThreshold(rho);
+    metrics_.setReuseDistances(reuse_distances);
     setReference(reference);
   }
   void setReference(const py::handle& reference)
@@ -84,6 +86,12 @@ public:
       metrics_.computeDistances(r_to_t, t_to_r);
     }
     return py::make_tuple(columnArray(r_to_t), columnArray(t_to_r));
+  }
+  bool reuseDistances() const { return metrics_.getReuseDistances(); }
+  void setReuseDistances(bool reuse)
+  {
+    Locked lock;
+    metrics_.setReuseDistances(reuse);
   }
   double rho() const { return metrics_.getThreshold(); }
   void setRho(double rho)
@@ -163,11 +171,16 @@ void bindClouds(py::module_& m)
       m, "ReconstructionMetrics",
       "Metrics of many reconstructions against one reference, whose search tree is "
       "built once.")
-      .def(py::init<const py::handle&, double, int>(), "reference"_a, "rho"_a = 0.003,
-           "threads"_a = 0)
+      .def(py::init<const py::handle&, double, int, bool>(), "reference"_a,
+           "rho"_a = 0.003, "threads"_a = 0, "reuse_distances"_a = false)
       .def("set_reference", &MetricsEvaluator::setReference, "reference"_a)
       .def_property("rho", &MetricsEvaluator::rho, &MetricsEvaluator::setRho,
                     "The precision / recall threshold (metres, > 0).")
+      .def_property("reuse_distances", &MetricsEvaluator::reuseDistances,
+                    &MetricsEvaluator::setReuseDistances,
+                    "Whether compute() keeps the distances it found, so that the next "
+                    "compute() searches only what changed (a reconstruction that grows "
+                    "view by view); the same results either way.")
       .def("compute", &MetricsEvaluator::compute, "reconstruction"_a,
            "The MetricsResult of this reconstruction.")
       .def("distances", &MetricsEvaluator::distances, "reconstruction"_a,

@@ -72,6 +72,19 @@ def test_the_reference_tree_is_kept_for_many_reconstructions(clouds):
         evaluator.rho = -1.0
 
 
+def test_reused_distances_give_the_results_of_a_fresh_compute(clouds):
+    reference, reconstruction = clouds
+    evaluator = pn.ReconstructionMetrics(reference, reuse_distances=True)
+    assert evaluator.reuse_distances
+    # Growing, then with points left out: what a map's occupied voxels do view by view.
+    for part in (reconstruction[:100], reconstruction[:250], reconstruction[50:300],
+                 reconstruction[50:300], reconstruction[::2]):
+        assert evaluator.compute(part).to_dict() == pn.metrics(reference, part).to_dict()
+    evaluator.reuse_distances = False
+    assert not evaluator.reuse_distances
+    assert not pn.ReconstructionMetrics(reference).reuse_distances
+
+
 def test_non_finite_points_are_ignored_and_empty_clouds_are_invalid(clouds):
     reference, reconstruction = clouds
     with_nan = np.vstack([reconstruction, [[np.nan, 0, 0], [np.inf, 1, 1]]])
