@@ -91,17 +91,13 @@ public:
       capacity *= 2;
     entries_.assign(capacity, Entry{});
     mask_ = capacity - 1;
-    size_ = 0;
   }
-  std::size_t size() const { return size_; }
   /// Adds p with its squared distance (a point already there keeps its entry).
   void insert(const float p[3], double sqr_dist)
   {
     Entry& e = entries_[slot(p)];
-    if (!e.used) {
+    if (!e.used)
       e = {{bits(p[0]), bits(p[1]), bits(p[2])}, true, sqr_dist};
-      ++size_;
-    }
   }
   /// p's squared distance; false when p is not in the table.
   bool find(const float p[3], double& sqr_dist) const
@@ -152,7 +148,7 @@ private:
   }
 
   std::vector<Entry> entries_;
-  std::size_t mask_ = 0, size_ = 0;
+  std::size_t mask_ = 0;
 };
 
 /// What a compute() measured, kept for the next one (ReconstructionMetrics::
