@@ -250,6 +250,11 @@ void squaredDistances(const MortonTree& r, const MortonTree& t, int threads,
 {
   r_to_t.resize(r.size());
   t_to_r.resize(t.size());
+  if (memo &&
+      r.size() > static_cast<std::size_t>(std::numeric_limits<std::int32_t>::max())) {
+    memo->valid = false; // a tree's index list holds R's positions as int32: no reuse
+    memo = nullptr;
+  }
   if (memo && memo->valid) {
     PointTable current;
     updateDistances(r, t, threads, *memo, r_to_t, t_to_r, current);

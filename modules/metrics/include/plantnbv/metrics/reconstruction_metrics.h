@@ -98,7 +98,8 @@ public:
   /// nearest point left the reconstruction). For a reconstruction that grows view by
   /// view against one reference (a trial's evaluation); the results are the same to the
   /// bit either way. Keeps 48-96 bytes per reconstruction point and 8 per reference
-  /// point; setting a reference forgets what was kept. Default false.
+  /// point; setting a reference forgets what was kept; a reconstruction of 2^31 points
+  /// or more is searched in full. Default false.
   void setReuseDistances(bool reuse);
   /// \brief Whether compute() reuses distances (setReuseDistances).
   bool getReuseDistances() const;
