@@ -609,7 +609,8 @@ TEST(ReconstructionMetrics, ComputesFromSeveralThreadsWhileReusingDistances)
   auto first = randomCloud(3000, 26, noisySphere);
   auto second = std::make_shared<CloudXYZ>(*first);
   second->resize(2500);
-  for (const pcl::PointXYZ& p : *randomCloud(400, 27, noisySphere))
+  const auto added = randomCloud(400, 27, noisySphere);
+  for (const pcl::PointXYZ& p : *added)
     second->push_back(p);
   ReconstructionMetrics metrics;
   metrics.setNumberOfThreads(1);
