@@ -23,6 +23,14 @@
 /// voxels_differ (candidates whose voxels_seen differs) and same_choice (1 if the arg
 /// max is the reference's).
 ///
+/// snapshot/{new,after_insert}/...: the snapshot of the map after `views` views (3 or
+/// 6), with the paper's gain: built anew from the whole tree (`new`), or brought up to
+/// date from the snapshot of the map before the last view, reading only the bricks that
+/// the last view's insert changed (`after_insert`, the NBV loop's case). The time is the
+/// update's alone (manual time; the map's copy and the insert are not timed). Counters:
+/// incremental (1 if the update read only the changed bricks), leaves (octree leaves
+/// read), bricks.
+///
 /// ray_count/...: the study behind GainConfig's default ray grid. For each ROI, over the
 /// maps after 1, 3 and 6 views and 20 candidate sets each (27 candidates, seeds
 /// 100-119): 60 choices with each ray grid from 16 x 12 to 160 x 120, judged by the
@@ -55,6 +63,7 @@
 
 #include <plantnbv/experiment/plant_scene.h>
 #include <plantnbv/octree/occupancy_map.h>
+#include <plantnbv/octree/occupancy_map_snapshot.h>
 #include <plantnbv/planning/cylindrical_sector_sampler.h>
 #include <plantnbv/planning/information_gain.h>
 #include <plantnbv/plant/plant_rois.h>
@@ -77,27 +86,41 @@ const Plant& benchPlant()
   return plant;
 }
 
-/// The map after `views` views (1, 3 or 6), built once.
+/// The six views' poses and frames, made once.
+struct BenchView {
+  Viewpoint pose;
+  CloudXYZL frame;
+};
+const std::vector<BenchView>& benchViews()
+{
+  static const std::vector<BenchView> views = [] {
+    SimulatedDepthSensor sensor(CameraIntrinsics::l515(L515Mode::vga_640x480));
+    sensor.setScene(makePlantScene(benchPlant()));
+    std::vector<Viewpoint> drawn;
+    Rng rng(1);
+    CylindricalSectorSampler().sample(rng, drawn);
+    std::vector<BenchView> out;
+    for (const Viewpoint& pose :
+         {kV0, drawn[13], drawn[6], drawn[20], drawn[0], drawn[26]}) {
+      out.push_back({pose, CloudXYZL()});
+      sensor.capture(pose, out.back().frame);
+    }
+    return out;
+  }();
+  return views;
+}
+
+/// The map after `views` views (1 to 6), built once.
 std::shared_ptr<const OccupancyMap> benchMap(int views)
 {
   static std::map<int, std::shared_ptr<OccupancyMap>> cache;
   auto& map = cache[views];
   if (map)
     return map;
-  static SimulatedDepthSensor sensor = [] {
-    SimulatedDepthSensor s(CameraIntrinsics::l515(L515Mode::vga_640x480));
-    s.setScene(makePlantScene(benchPlant()));
-    return s;
-  }();
-  std::vector<Viewpoint> drawn;
-  Rng rng(1);
-  CylindricalSectorSampler().sample(rng, drawn);
-  const Viewpoint poses[6] = {kV0, drawn[13], drawn[6], drawn[20], drawn[0], drawn[26]};
   map = std::make_shared<OccupancyMap>();
-  CloudXYZL cloud;
   for (int v = 0; v < views; ++v) {
-    sensor.capture(poses[v], cloud);
-    map->insert(cloud, poses[v].position);
+    const BenchView& view = benchViews()[static_cast<std::size_t>(v)];
+    map->insert(view.frame, view.pose.position);
   }
   return map;
 }
@@ -312,6 +335,30 @@ void benchRayCount(benchmark::State& state, RoiKind kind, int rays_x)
   state.counters["step_ms"] = step_ms / static_cast<double>(state.iterations());
 }
 
+void benchSnapshot(benchmark::State& state, int views, RoiKind kind, int threads,
+                   bool after_insert)
+{
+  const OccupancyMapSnapshot before(*benchMap(after_insert ? views - 1 : views));
+  const BenchView& last = benchViews()[static_cast<std::size_t>(views - 1)];
+  InformationGain gain;
+  gain.setConfig(GainConfig::paper());
+  gain.setRoi(benchRoi(kind));
+  gain.setNumberOfThreads(threads);
+  for (auto _ : state) {
+    const std::shared_ptr<OccupancyMap> map = before.restore();
+    gain.setInputMap(map);
+    gain.update(); // anew: a new map
+    if (after_insert) {
+      map->insert(last.frame, last.pose.position);
+      gain.update();
+    }
+    state.SetIterationTime(gain.getLastStats().update_ms / 1000.0);
+  }
+  state.counters["incremental"] = gain.getLastStats().incremental ? 1 : 0;
+  state.counters["leaves"] = static_cast<double>(gain.getLastStats().leaves);
+  state.counters["bricks"] = static_cast<double>(gain.getLastStats().bricks);
+}
+
 const char* roiName(RoiKind kind)
 {
   return roiKindName(kind);
@@ -346,6 +393,20 @@ int main(int argc, char** argv)
                                          benchReference, views, kind, threads, rays_x)
                 ->Unit(benchmark::kMillisecond)
                 ->Iterations(1);
+        }
+  for (const int views : {3, 6})
+    for (const RoiKind kind : {RoiKind::whole_plant, RoiKind::leaf_nodes})
+      for (const int threads : {1, 2})
+        for (const bool after_insert : {false, true}) {
+          const std::string name = std::string("snapshot/") +
+                                   (after_insert ? "after_insert/" : "new/") +
+                                   roiName(kind) + "/views:" + std::to_string(views) +
+                                   "/threads:" + std::to_string(threads);
+          benchmark::RegisterBenchmark(name.c_str(), benchSnapshot, views, kind, threads,
+                                       after_insert)
+              ->Unit(benchmark::kMillisecond)
+              ->UseManualTime()
+              ->Iterations(10);
         }
   for (const RoiKind kind : kinds)
     for (const int rays_x : {16, 24, 32, 48, 64, 96, 128, 160}) {

@@ -1,7 +1,9 @@
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <filesystem>
 #include <limits>
+#include <map>
 #include <set>
 #include <sstream>
 #include <string>
@@ -212,6 +214,24 @@ std::string tempPath(const std::string& name)
           ("plantnbv_" + std::string(info->name()) + "_" + std::to_string(::getpid()) +
            "_" + name))
       .string();
+}
+
+using VoxelKey = std::array<int, 3>;
+
+/// Every voxel the tree knows and its log-odds (pruned leaves as their voxels).
+std::map<VoxelKey, float> knownVoxels(const octomap::OcTree& tree)
+{
+  std::map<VoxelKey, float> voxels;
+  for (auto it = tree.begin_leafs(); it != tree.end_leafs(); ++it) {
+    const octomap::OcTreeKey k = it.getIndexKey();
+    const int size =
+        1 << (plantnbv::VoxelLattice::kTreeDepth - static_cast<int>(it.getDepth()));
+    for (int x = 0; x < size; ++x)
+      for (int y = 0; y < size; ++y)
+        for (int z = 0; z < size; ++z)
+          voxels[{k[0] + x, k[1] + y, k[2] + z}] = it->getLogOdds();
+  }
+  return voxels;
 }
 
 std::size_t occupiedCount(const octomap::OcTree& tree)
@@ -759,6 +779,79 @@ TEST(OccupancyMap, WithAnUpdateRegionItsVoxelsAreOctoMaps)
   EXPECT_THROW(other.setUpdateRegion(region), plantnbv::InvalidArgumentError);
   EXPECT_THROW(plantnbv::UpdateRegion(0.0, bounds), plantnbv::InvalidArgumentError);
   EXPECT_THROW(region->addBox(bounds, -1.0), plantnbv::InvalidArgumentError);
+}
+
+TEST(OccupancyMap, ChangedBricksHoldEveryVoxelThatAnInsertChanged)
+{
+  // Hard random frames, frames of far points (free space only) and dense camera frames
+  // (large uniform cubes), around the origin where the bitset's 64^3-voxel blocks meet
+  // on every axis, with and without an update region, on 1 and 2 threads: after each
+  // insert every voxel that became known or whose log-odds changed lies in a brick
+  // that getChangedBricks lists; each brick is listed once and holds a known voxel; the
+  // bricks are given only for the revision just before the insert.
+  OccupancyMap::Config config;
+  config.resolution_m = 0.02;
+  config.max_range_m = 0.4;
+  const Eigen::Vector3d centre(0.01, -0.03, 0.02);
+  const plantnbv::Box bounds(centre, Eigen::Vector3d::Constant(1.2));
+  auto region = std::make_shared<plantnbv::UpdateRegion>(config.resolution_m, bounds);
+  region->addBox(plantnbv::Box(centre, Eigen::Vector3d::Constant(0.3)));
+  const int shift = OccupancyMap::kChangedBrickShift;
+  for (int threads : {1, 2})
+    for (bool with_region : {false, true}) {
+      SCOPED_TRACE(std::to_string(threads) + " threads, region " +
+                   std::to_string(with_region));
+      plantnbv::Rng rng(21);
+      OccupancyMap map(config);
+      map.setNumberOfThreads(threads);
+      if (with_region)
+        map.setUpdateRegion(region);
+      std::vector<VoxelKey> bricks{{1, 2, 3}};
+      EXPECT_FALSE(map.getChangedBricks(0, bricks)); // nothing inserted
+      EXPECT_FALSE(map.getChangedBricks(~std::uint64_t{0}, bricks));
+      EXPECT_TRUE(bricks.empty());
+      std::map<VoxelKey, float> before;
+      for (int frame = 0; frame < 6; ++frame) {
+        const double yaw = 1.1 * frame;
+        const Eigen::Vector3d origin =
+            centre + Eigen::Vector3d(0.25 * std::cos(yaw), 0.25 * std::sin(yaw),
+                                     0.03 * (frame % 3));
+        const CloudXYZ cloud =
+            frame % 3 == 0
+                ? randomFrame(rng, origin, config.resolution_m, config.max_range_m, 2000)
+            : frame % 3 == 1 ? sphereFrame(rng, origin, centre)
+                             : cameraFrame(origin, centre, 64, 48, 50.0);
+        const std::uint64_t since = map.revision();
+        map.insert(cloud, origin);
+        ASSERT_TRUE(map.getChangedBricks(since, bricks)) << frame;
+        EXPECT_FALSE(map.getChangedBricks(since - 1, bricks)) << frame;
+        EXPECT_FALSE(map.getChangedBricks(since + 1, bricks)) << frame;
+        ASSERT_TRUE(map.getChangedBricks(since, bricks)) << frame;
+        const std::set<VoxelKey> listed(bricks.begin(), bricks.end());
+        EXPECT_EQ(listed.size(), bricks.size()) << frame;
+        const std::map<VoxelKey, float> after = knownVoxels(map.getOcTree());
+        std::set<VoxelKey> known_bricks;
+        std::size_t changed = 0, missed = 0;
+        for (const auto& [key, log_odds] : after) {
+          const VoxelKey brick{key[0] >> shift, key[1] >> shift, key[2] >> shift};
+          known_bricks.insert(brick);
+          const auto old = before.find(key);
+          if (old != before.end() && old->second == log_odds)
+            continue;
+          ++changed;
+          missed += listed.count(brick) == 0 ? 1 : 0;
+        }
+        EXPECT_GT(changed, 10u) << frame;
+        EXPECT_EQ(missed, 0u) << frame;
+        for (const VoxelKey& brick : listed)
+          EXPECT_EQ(known_bricks.count(brick), 1u) << frame << ": (" << brick[0] << ", "
+                                                   << brick[1] << ", " << brick[2] << ")";
+        before = after;
+      }
+      map.clear();
+      EXPECT_FALSE(map.getChangedBricks(map.revision() - 1, bricks));
+      EXPECT_TRUE(bricks.empty());
+    }
 }
 
 TEST(OccupancyMap, SameMapWithAnyThreadCount)

@@ -133,6 +133,30 @@ std::vector<Viewpoint> sectorViewsAndV0(std::uint64_t seed)
   return views;
 }
 
+/// The gains whose snapshots differ (16 x 12 rays): the paper's entropy (the ROI and
+/// the occupied voxels), unknown voxels only with a depth (the defaults' gain; values
+/// worth 0), visibility weighting (every known voxel).
+std::vector<std::pair<const char*, GainConfig>> snapshotVariants()
+{
+  GainConfig paper = GainConfig::paper();
+  paper.rays_x = 16;
+  paper.rays_y = 12;
+  GainConfig unknown_only = paper;
+  unknown_only.unknown_only = true;
+  unknown_only.unknown_depth = 3;
+  GainConfig weighted = paper;
+  weighted.visibility_weighted = true;
+  return {{"paper", paper}, {"unknown_only", unknown_only}, {"weighted", weighted}};
+}
+
+/// A large ROI box, small ones, and none.
+std::vector<std::pair<const char*, Roi>> snapshotRois(const Plant& plant)
+{
+  return {{"whole_plant", wholePlantRoi(plant)},
+          {"leaf_nodes", leafNodeRoi(plant)},
+          {"no_roi", Roi()}};
+}
+
 } // namespace
 
 TEST(InformationGain, OccupancyEntropyValues)
@@ -391,21 +415,8 @@ TEST(InformationGain, UpdateGivesTheSameSnapshotAndGainsAtAnyThreadCount)
       {"line", lineWithAHitAt5()},
       {"empty", std::make_shared<OccupancyMap>()},
   };
-  GainConfig paper = GainConfig::paper();
-  paper.rays_x = 16;
-  paper.rays_y = 12;
-  GainConfig unknown_only = paper; // the defaults' gain
-  unknown_only.unknown_only = true;
-  unknown_only.unknown_depth = 3;
-  GainConfig weighted = paper;
-  weighted.visibility_weighted = true;
-  const std::pair<const char*, GainConfig> configs[] = {
-      {"paper", paper}, {"unknown_only", unknown_only}, {"weighted", weighted}};
-  const std::pair<const char*, Roi> rois[] = {
-      {"whole_plant", wholePlantRoi(plant)},
-      {"leaf_nodes", leafNodeRoi(plant)},
-      {"no_roi", Roi()},
-  };
+  const auto configs = snapshotVariants();
+  const auto rois = snapshotRois(plant);
   for (const auto& [map_name, map] : maps)
     for (const auto& [config_name, config] : configs)
       for (const auto& [roi_name, roi] : rois) {
@@ -445,6 +456,78 @@ TEST(InformationGain, UpdateGivesTheSameSnapshotAndGainsAtAnyThreadCount)
           EXPECT_GT(one_stats.leaves, 0u) << map_name << ", " << config_name;
         }
       }
+}
+
+TEST(InformationGain, AfterAnInsertReadsOnlyTheChangedBricksWithTheGainsOfANewSnapshot)
+{
+  // Gain objects follow one map through views of the plant: after each insert their
+  // compute() reads only the bricks the insert changed (OccupancyMap::getChangedBricks)
+  // and gives every candidate's gain and counts of a new object, bit for bit; with and
+  // without ROI, for the paper's gain, unknown voxels only with a depth, and visibility
+  // weighting, on 1 and 2 threads. Two inserts between computes, and clear(), make them
+  // read the whole map again.
+  const Plant& plant = test::plantWorld().plant;
+  std::vector<Viewpoint> candidates = sectorViewsAndV0(7);
+  candidates.resize(8);
+  const auto configs = snapshotVariants();
+  const auto rois = snapshotRois(plant);
+  auto map = std::make_shared<OccupancyMap>();
+  struct Follower {
+    std::string what;
+    GainConfig config;
+    Roi roi;
+    int threads;
+    std::unique_ptr<InformationGain> gain;
+  };
+  std::vector<Follower> followers;
+  for (const auto& [config_name, config] : configs)
+    for (const auto& [roi_name, roi] : rois)
+      for (int threads : {1, 2}) {
+        Follower f{std::string(config_name) + ", " + roi_name + ", " +
+                       std::to_string(threads) + " threads",
+                   config, roi, threads, std::make_unique<InformationGain>()};
+        f.gain->setConfig(config);
+        f.gain->setInputMap(map);
+        f.gain->setRoi(roi);
+        f.gain->setNumberOfThreads(threads);
+        followers.push_back(std::move(f));
+      }
+  const auto expectGainsOfANewObject = [&](const std::string& step, bool incremental) {
+    for (Follower& f : followers) {
+      const std::string what = f.what + ", " + step;
+      std::vector<ViewGain> out;
+      f.gain->compute(candidates, out);
+      EXPECT_EQ(f.gain->getLastStats().incremental, incremental) << what;
+      const std::vector<ViewGain> fresh =
+          fastGains(map, f.roi, f.config, candidates, f.threads);
+      ASSERT_EQ(out.size(), fresh.size()) << what;
+      for (std::size_t i = 0; i < out.size(); ++i) {
+        EXPECT_EQ(out[i].gain, fresh[i].gain) << what << " candidate " << i;
+        EXPECT_EQ(out[i].voxels_seen, fresh[i].voxels_seen) << what << " candidate " << i;
+        EXPECT_EQ(out[i].unknown_seen, fresh[i].unknown_seen)
+            << what << " candidate " << i;
+        EXPECT_EQ(out[i].rays_cast, fresh[i].rays_cast) << what << " candidate " << i;
+      }
+    }
+  };
+  expectGainsOfANewObject("empty map", false);
+  CylindricalSectorSampler sampler;
+  const double facing = sampler.getSector().facingAzimuth();
+  const Viewpoint path[] = {test::paperV0(), sampler.viewpointAt(facing + 0.3, 1.2),
+                            sampler.viewpointAt(facing - 0.4, 1.0),
+                            sampler.viewpointAt(facing, 1.4),
+                            sampler.viewpointAt(facing + 0.6, 0.9)};
+  for (std::size_t v = 0; v < 3; ++v) {
+    test::insertView(*map, path[v]);
+    expectGainsOfANewObject("view " + std::to_string(v), true);
+  }
+  test::insertView(*map, path[3]);
+  test::insertView(*map, path[4]);
+  expectGainsOfANewObject("two views", false);
+  map->clear();
+  expectGainsOfANewObject("cleared", false);
+  test::insertView(*map, path[0]);
+  expectGainsOfANewObject("a view after clear()", true);
 }
 
 TEST(InformationGain, EqualsTheReferenceAtTheDefaultRayGrid)

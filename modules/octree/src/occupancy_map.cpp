@@ -1,4 +1,5 @@
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <cmath>
 #include <cstdint>
@@ -495,6 +496,9 @@ struct OccupancyMapScratch {
     /// marked), and whether that node was made in this frame.
     octomap::OcTreeNode* node = nullptr;
     bool node_created = false;
+    /// Its 8^3-voxel bricks (bit b: the brick at Morton index b in the block) that
+    /// hold a marked voxel: OccupancyMap::getChangedBricks.
+    std::uint64_t changed[8] = {0, 0, 0, 0, 0, 0, 0, 0};
 
     /// The key of the block's first voxel.
     octomap::OcTreeKey firstKey() const
@@ -517,6 +521,8 @@ struct OccupancyMapScratch {
   std::vector<std::unique_ptr<Block>> blocks;     ///< all blocks ever made
   std::vector<Block*> spare;                      ///< zeroed blocks not in use
   std::vector<UsedBlock> used;
+  /// The last insert's changed bricks (OccupancyMap::getChangedBricks).
+  std::vector<std::array<int, 3>> changed_bricks;
   std::unique_ptr<std::atomic<Block*>[]> table;
   std::size_t table_capacity = 0;
   int table_lo[3] = {0, 0, 0}; ///< block coordinates of the table's first slot
@@ -752,6 +758,26 @@ bool firstMarkedVoxel(const Block& block, std::uint32_t& m)
   return false;
 }
 
+/// Appends the block's changed bricks (UsedBlock::changed) as brick coordinates.
+void listChangedBricks(const Scratch::UsedBlock& used,
+                       std::vector<std::array<int, 3>>& out)
+{
+  constexpr int kBrickShift = OccupancyMap::kChangedBrickShift;
+  constexpr int kBricksPerAxis = 1 << (kBlockShift - kBrickShift);
+  for (int word = 0; word < 8; ++word)
+    for (std::uint64_t bits = used.changed[word]; bits != 0; bits &= bits - 1) {
+      const int b = word * 64 + __builtin_ctzll(bits); // Morton index in the block
+      std::array<int, 3> brick;
+      for (int a = 0; a < 3; ++a) {
+        int local = 0;
+        for (int bit = 0; bit < kBlockShift - kBrickShift; ++bit)
+          local |= ((b >> (3 * bit + a)) & 1) << bit;
+        brick[static_cast<std::size_t>(a)] = used.coords[a] * kBricksPerAxis + local;
+      }
+      out.push_back(brick);
+    }
+}
+
 /// Step 3 of insert: the frame's bitset into the tree, and the used blocks (sorted in
 /// octree order) cleared for the next frame. A voxel both free and occupied is occupied
 /// only. The blocks are disjoint subtrees: the paths from the root to their nodes are
@@ -802,7 +828,7 @@ void applyBitset(octomap::OcTree& tree, Scratch& scratch, int threads,
     BlockWalker walker(updater, hit, miss);
 #pragma omp for schedule(dynamic, 1)
     for (std::int64_t i = 0; i < blocks; ++i) {
-      const Scratch::UsedBlock& used = scratch.used[static_cast<std::size_t>(i)];
+      Scratch::UsedBlock& used = scratch.used[static_cast<std::size_t>(i)];
       if (!used.node)
         continue;
       // The block's bits, copied out and cleared for the next frame.
@@ -817,6 +843,8 @@ void applyBitset(octomap::OcTree& tree, Scratch& scratch, int threads,
           block.occupied_bits[w].store(0, std::memory_order_relaxed);
           occupied_voxels += static_cast<std::size_t>(__builtin_popcountll(o));
           free_voxels += static_cast<std::size_t>(__builtin_popcountll(f & ~o));
+          // Eight words (4^3 voxels each, in Morton order) make a brick of 8^3.
+          used.changed[w >> 9] |= std::uint64_t{1} << ((w >> 3) & 63);
         }
       }
       try {
@@ -844,9 +872,11 @@ void applyBitset(octomap::OcTree& tree, Scratch& scratch, int threads,
   stats.occupied_voxels += occupied_voxels;
   stats.free_voxels += free_voxels;
   stats.tree_updates += tree_updates;
+  scratch.changed_bricks.clear();
   for (const Scratch::UsedBlock& used : scratch.used) {
     scratch.table[used.slot].store(nullptr, std::memory_order_relaxed);
     scratch.spare.push_back(used.block);
+    listChangedBricks(used, scratch.changed_bricks);
   }
   scratch.used.clear();
   for (octomap::OcTreeNode* node : scratch.deferred)
@@ -1138,10 +1168,30 @@ void OccupancyMap::insertImpl(const pcl::PointCloud<PointT>& points_W,
   }
   stats.free_voxels += overflow.size();
   stats.tree_updates += overflow.size();
+  if (!overflow.empty()) {
+    std::vector<std::array<int, 3>>& changed = scratch.changed_bricks;
+    for (const std::uint64_t packed : overflow)
+      changed.push_back({static_cast<int>(packed >> 32) >> kChangedBrickShift,
+                         static_cast<int>((packed >> 16) & 0xffffu) >> kChangedBrickShift,
+                         static_cast<int>(packed & 0xffffu) >> kChangedBrickShift});
+    std::sort(changed.begin(), changed.end());
+    changed.erase(std::unique(changed.begin(), changed.end()), changed.end());
+  }
+  changed_bricks_revision_ = revision_;
   guard.done = true;
   stats.update_ms = update_start.ms();
   stats.total_ms = start.ms();
   last_stats_ = stats;
+}
+
+bool OccupancyMap::getChangedBricks(std::uint64_t since,
+                                    std::vector<std::array<int, 3>>& bricks) const
+{
+  bricks.clear();
+  if (changed_bricks_revision_ != revision_ || since + 1 != revision_)
+    return false;
+  bricks = scratch_->changed_bricks;
+  return true;
 }
 
 void OccupancyMap::clear()

@@ -56,11 +56,38 @@ struct OwnBrickWriter {
   }
 };
 
+/// The most bricks a snapshot's table may hold.
+constexpr std::size_t kMaxBricks = std::size_t{1} << 28;
+
+/// The bricks of the table that holds `region`.
+std::size_t brickCount(const KeyBox& region)
+{
+  std::size_t n = 1;
+  for (int a = 0; a < 3; ++a)
+    n *= static_cast<std::size_t>((region.hi[a] >> kBrickShift) -
+                                  (region.lo[a] >> kBrickShift) + 1);
+  return n;
+}
+
+/// The bytes of a voxel code for `n` values.
+int codeBytes(std::size_t n)
+{
+  const std::size_t max_code = (n - 1) << kValueShift | kOccupied | kInRoi;
+  return max_code <= 0xffu ? 1 : (max_code <= 0xffffu ? 2 : 4);
+}
+
 std::uint32_t floatBits(float f)
 {
   std::uint32_t bits;
   std::memcpy(&bits, &f, sizeof bits);
   return bits;
+}
+
+/// Value indices' order: increasing log-odds, equal values (-0 and 0) by their bits, so
+/// that which is kept does not depend on the thread that found it.
+bool valueBefore(float a, float b)
+{
+  return a < b || (a == b && floatBits(a) < floatBits(b));
 }
 
 } // namespace
@@ -116,22 +143,76 @@ CodeT* Bricks<CodeT>::materialize(std::size_t s)
 }
 
 template <typename CodeT>
+std::uint32_t Bricks<CodeT>::sharedBrick(std::uint32_t code)
+{
+  for (const auto& cb : shared)
+    if (cb.first == code)
+      return cb.second;
+  const auto index = static_cast<std::uint32_t>(voxels.size() >> (3 * kBrickShift));
+  voxels.resize(voxels.size() + kBrickVoxels, static_cast<CodeT>(code));
+  shared.push_back({code, index});
+  return index;
+}
+
+template <typename CodeT>
 void Bricks<CodeT>::shareUniformBricks()
 {
-  std::vector<std::pair<std::uint32_t, std::uint32_t>> shared; // code -> brick, few
-  auto brickOf = [&](std::uint32_t code) {
-    for (const auto& cb : shared)
-      if (cb.first == code)
-        return cb.second;
-    const auto index = static_cast<std::uint32_t>(voxels.size() >> (3 * kBrickShift));
-    voxels.resize(voxels.size() + kBrickVoxels, static_cast<CodeT>(code));
-    shared.push_back({code, index});
-    return index;
-  };
-  outside_brick = brickOf(outside);
+  shared.clear();
+  outside_brick = sharedBrick(outside);
   for (std::uint32_t& e : table)
     if (e & kUniform)
-      e = kUniform | brickOf(e & ~kUniform);
+      e = kUniform | sharedBrick(e & ~kUniform);
+}
+
+template <typename CodeT>
+void Bricks<CodeT>::store(std::size_t s, const CodeT* v)
+{
+  std::uint32_t& e = table[s];
+  if (std::all_of(v + 1, v + kBrickVoxels, [&](CodeT c) { return c == v[0]; })) {
+    if (!(e & kUniform))
+      free_bricks.push_back(e);
+    e = kUniform | sharedBrick(v[0]);
+    return;
+  }
+  if (e & kUniform) {
+    if (!free_bricks.empty()) {
+      e = free_bricks.back();
+      free_bricks.pop_back();
+    } else {
+      e = static_cast<std::uint32_t>(voxels.size() >> (3 * kBrickShift));
+      voxels.resize(voxels.size() + kBrickVoxels);
+    }
+  }
+  std::copy(v, v + kBrickVoxels,
+            &voxels[static_cast<std::size_t>(e) << (3 * kBrickShift)]);
+}
+
+template <typename CodeT>
+void Bricks<CodeT>::resize(const KeyBox& region)
+{
+  int b0_new[3], nb_new[3];
+  for (int a = 0; a < 3; ++a) {
+    b0_new[a] = region.lo[a] >> kBrickShift;
+    nb_new[a] = (region.hi[a] >> kBrickShift) - b0_new[a] + 1;
+  }
+  std::vector<std::uint32_t> t(brickCount(region), kUniform | outside_brick);
+  for (int z = 0; z < nb[2]; ++z)
+    for (int y = 0; y < nb[1]; ++y) {
+      const std::size_t from = slot(0, y, z);
+      const std::size_t to = (static_cast<std::size_t>(z + b0[2] - b0_new[2]) *
+                                  static_cast<std::size_t>(nb_new[1]) +
+                              static_cast<std::size_t>(y + b0[1] - b0_new[1])) *
+                                 static_cast<std::size_t>(nb_new[0]) +
+                             static_cast<std::size_t>(b0[0] - b0_new[0]);
+      std::copy(table.begin() + static_cast<std::ptrdiff_t>(from),
+                table.begin() + static_cast<std::ptrdiff_t>(from) + nb[0],
+                t.begin() + static_cast<std::ptrdiff_t>(to));
+    }
+  table.swap(t);
+  for (int a = 0; a < 3; ++a) {
+    b0[a] = b0_new[a];
+    nb[a] = nb_new[a];
+  }
 }
 
 template <typename CodeT>
@@ -139,6 +220,8 @@ void Bricks<CodeT>::clear()
 {
   table.clear();
   voxels.clear();
+  shared.clear();
+  free_bricks.clear();
   for (int a = 0; a < 3; ++a)
     b0[a] = nb[a] = 0;
 }
@@ -209,6 +292,49 @@ bool Snapshot::matters(const octomap::OcTreeNode* node, int depth, const int k[3
          node->getLogOdds() > threshold_;
 }
 
+void Snapshot::addLeaf(Part& part, const int k[3], int shift, float log_odds) const
+{
+  part.leaves.push_back({{k[0], k[1], k[2]}, shift, part.valueIndex(log_odds)});
+  // The keys the snapshot needs for it: its cube, within the ROI's keys unless it is
+  // occupied or every voxel is needed.
+  const bool clip = !full && !(log_odds > threshold_);
+  for (int a = 0; a < 3; ++a) {
+    int l = k[a], h = k[a] + (1 << shift) - 1;
+    if (clip) {
+      l = std::max(l, roi_bbox.lo[a]);
+      h = std::min(h, roi_bbox.hi[a]);
+    }
+    part.extent.lo[a] = std::min(part.extent.lo[a], l);
+    part.extent.hi[a] = std::max(part.extent.hi[a], h);
+  }
+}
+
+void Snapshot::collectBrick(Part& part, const int k[3]) const
+{
+  constexpr int kBrickDepth = VoxelLattice::kTreeDepth - kBrickShift;
+  const octomap::OcTreeNode* node = tree->getRoot();
+  int first[3] = {0, 0, 0}; // of the node's cube
+  for (int depth = 0; node; ++depth) {
+    if (depth == kBrickDepth) {
+      collect(part, node, depth, first);
+      return;
+    }
+    if (!tree->nodeHasChildren(node)) { // a leaf larger than the brick: its part
+      if (matters(node, depth, first))
+        addLeaf(part, k, kBrickShift, node->getLogOdds());
+      return;
+    }
+    const int shift = VoxelLattice::kTreeDepth - depth - 1; // of the children's cubes
+    unsigned i = 0;
+    for (int a = 0; a < 3; ++a) {
+      const int bit = (k[a] >> shift) & 1;
+      i |= static_cast<unsigned>(bit) << a;
+      first[a] += bit << shift;
+    }
+    node = tree->nodeChildExists(node, i) ? tree->getNodeChild(node, i) : nullptr;
+  }
+}
+
 void Snapshot::collect(Part& part, const octomap::OcTreeNode* node, int depth,
                        const int k[3]) const
 {
@@ -216,20 +342,7 @@ void Snapshot::collect(Part& part, const octomap::OcTreeNode* node, int depth,
     return;
   const int shift = VoxelLattice::kTreeDepth - depth;
   if (!tree->nodeHasChildren(node)) {
-    const float log_odds = node->getLogOdds();
-    part.leaves.push_back({{k[0], k[1], k[2]}, shift, part.valueIndex(log_odds)});
-    // The keys the snapshot needs for it: its cube, within the ROI's keys unless it
-    // is occupied or every voxel is needed.
-    const bool clip = !full && !(log_odds > threshold_);
-    for (int a = 0; a < 3; ++a) {
-      int l = k[a], h = k[a] + (1 << shift) - 1;
-      if (clip) {
-        l = std::max(l, roi_bbox.lo[a]);
-        h = std::min(h, roi_bbox.hi[a]);
-      }
-      part.extent.lo[a] = std::min(part.extent.lo[a], l);
-      part.extent.hi[a] = std::max(part.extent.hi[a], h);
-    }
+    addLeaf(part, k, shift, node->getLogOdds());
     return;
   }
   const int half = 1 << (shift - 1);
@@ -345,17 +458,50 @@ void Snapshot::fillTask(const Task& task, const KeyBox& region, Writer& writer) 
   }
 }
 
+int Snapshot::roiCover(const int k[3]) const
+{
+  if (!roi_mode)
+    return 0;
+  int cover = 0;
+  for (const KeyBox& b : roi_boxes) {
+    if (b.empty() || !b.overlapsCube(k, 1 << kBrickShift))
+      continue;
+    bool covers = true;
+    for (int a = 0; a < 3; ++a)
+      covers = covers && b.lo[a] <= k[a] && b.hi[a] >= k[a] + kBrickMask;
+    cover = std::max(cover, covers ? 2 : 1);
+  }
+  return cover;
+}
+
+template <typename CodeT>
+void Snapshot::markRoi(const int k[3], CodeT* v) const
+{
+  for (const KeyBox& b : roi_boxes) {
+    if (b.empty() || !b.overlapsCube(k, 1 << kBrickShift))
+      continue;
+    int v_lo[3], v_hi[3];
+    for (int a = 0; a < 3; ++a) {
+      v_lo[a] = std::max(b.lo[a], k[a]) - k[a];
+      v_hi[a] = std::min(b.hi[a], k[a] + kBrickMask) - k[a];
+    }
+    for (int z = v_lo[2]; z <= v_hi[2]; ++z)
+      for (int y = v_lo[1]; y <= v_hi[1]; ++y)
+        for (int x = v_lo[0]; x <= v_hi[0]; ++x)
+          v[(z << (2 * kBrickShift)) | (y << kBrickShift) | x] = kInRoi;
+  }
+}
+
 template <typename CodeT>
 void Snapshot::fill(Bricks<CodeT>& bricks, const KeyBox& region, int threads)
 {
   bricks.clear();
-  std::size_t n = 1;
+  const std::size_t n = brickCount(region);
   for (int a = 0; a < 3; ++a) {
     bricks.b0[a] = region.lo[a] >> kBrickShift;
     bricks.nb[a] = (region.hi[a] >> kBrickShift) - bricks.b0[a] + 1;
-    n *= static_cast<std::size_t>(bricks.nb[a]);
   }
-  if (n > (std::size_t{1} << 28)) {
+  if (n > kMaxBricks) {
     std::ostringstream s;
     s << "InformationGain::update: the map's region to snapshot spans " << n
       << " bricks of 8^3 voxels, more than 2^28; with an ROI and no visibility "
@@ -375,36 +521,13 @@ void Snapshot::fill(Bricks<CodeT>& bricks, const KeyBox& region, int threads)
       for (int by = lo[1]; by <= hi[1]; ++by)
         for (int bx = lo[0]; bx <= hi[0]; ++bx) {
           const int k[3] = {bx << kBrickShift, by << kBrickShift, bz << kBrickShift};
-          bool inside = false, touches = false;
-          for (const KeyBox& b : roi_boxes) {
-            if (b.empty() || !b.overlapsCube(k, 1 << kBrickShift))
-              continue;
-            touches = true;
-            bool covers = true;
-            for (int a = 0; a < 3; ++a)
-              covers = covers && b.lo[a] <= k[a] && b.hi[a] >= k[a] + kBrickMask;
-            inside = inside || covers;
-          }
+          const int cover = roiCover(k);
           const std::size_t s =
               bricks.slot(bx - bricks.b0[0], by - bricks.b0[1], bz - bricks.b0[2]);
-          if (inside) {
+          if (cover == 2)
             bricks.table[s] = kUniform | kInRoi;
-          } else if (touches) {
-            CodeT* v = bricks.materialize(s); // all 0 (`outside`), then each box's part
-            for (const KeyBox& b : roi_boxes) {
-              if (b.empty() || !b.overlapsCube(k, 1 << kBrickShift))
-                continue;
-              int v_lo[3], v_hi[3];
-              for (int a = 0; a < 3; ++a) {
-                v_lo[a] = std::max(b.lo[a], k[a]) - k[a];
-                v_hi[a] = std::min(b.hi[a], k[a] + kBrickMask) - k[a];
-              }
-              for (int z = v_lo[2]; z <= v_hi[2]; ++z)
-                for (int y = v_lo[1]; y <= v_hi[1]; ++y)
-                  for (int x = v_lo[0]; x <= v_hi[0]; ++x)
-                    v[(z << (2 * kBrickShift)) | (y << kBrickShift) | x] = kInRoi;
-            }
-          }
+          else if (cover == 1)
+            markRoi(k, bricks.materialize(s)); // all 0 (`outside`) before
         }
   }
 
@@ -465,6 +588,63 @@ void Snapshot::fill(Bricks<CodeT>& bricks, const KeyBox& region, int threads)
   bricks.shareUniformBricks();
 }
 
+void Snapshot::collectTasks(int threads, bool bricks)
+{
+  const auto n_tasks = static_cast<std::int64_t>(tasks_.size());
+#pragma omp parallel num_threads(threads)
+  {
+    const int t = omp_get_thread_num();
+    Part& part = parts_[static_cast<std::size_t>(t)];
+#pragma omp for schedule(dynamic, 1)
+    for (std::int64_t i = 0; i < n_tasks; ++i) {
+      Task& task = tasks_[static_cast<std::size_t>(i)];
+      task.part = t;
+      task.leaf_begin = part.leaves.size();
+      if (bricks)
+        collectBrick(part, task.k);
+      else
+        collect(part, task.node, task.depth, task.k);
+      task.leaf_end = part.leaves.size();
+    }
+  }
+  leaf_count = 0;
+  for (int t = 0; t < threads; ++t)
+    leaf_count += parts_[static_cast<std::size_t>(t)].leaves.size();
+}
+
+void Snapshot::addDistinctValues(int threads, std::vector<float>& sorted)
+{
+  // Value indices in increasing log-odds (deterministic); 0 is unknown.
+  for (int t = 0; t < threads; ++t) {
+    const Part& part = parts_[static_cast<std::size_t>(t)];
+    sorted.insert(sorted.end(), part.distinct.begin(), part.distinct.end());
+  }
+  std::sort(sorted.begin(), sorted.end(), valueBefore);
+  sorted.erase(std::unique(sorted.begin(), sorted.end()), sorted.end());
+  for (int t = 0; t < threads; ++t) {
+    Part& part = parts_[static_cast<std::size_t>(t)];
+    part.remap.resize(part.distinct.size());
+    for (std::size_t i = 0; i < part.distinct.size(); ++i)
+      part.remap[i] = static_cast<std::uint32_t>(
+          std::lower_bound(sorted.begin(), sorted.end(), part.distinct[i]) -
+          sorted.begin() + 1);
+  }
+}
+
+void Snapshot::setValues(const std::vector<float>& sorted)
+{
+  values.assign(sorted.size() + 1, Value());
+  values[0].entropy = occupancyEntropy(0.5);
+  for (std::size_t i = 0; i < sorted.size(); ++i) {
+    const double p = octomap::probability(sorted[i]); // OcTreeNode::getOccupancy()
+    Value& v = values[i + 1];
+    v.log_odds = sorted[i];
+    v.entropy = unknown_only_ ? 0.0 : occupancyEntropy(p);
+    v.free_prob = 1.0 - p;
+    v.occupied = sorted[i] > threshold_; // OcTree::isNodeOccupied
+  }
+}
+
 void Snapshot::build(const octomap::OcTree& octree, const Roi& roi, bool full_map,
                      bool unknown_only, int threads)
 {
@@ -473,6 +653,7 @@ void Snapshot::build(const octomap::OcTree& octree, const Roi& roi, bool full_ma
   lattice = VoxelLattice(tree->getResolution());
   const double resolution = lattice.resolution();
   threshold_ = tree->getOccupancyThresLog();
+  unknown_only_ = unknown_only;
   roi_mode = !roi.empty();
   full = full_map || !roi_mode;
   roi_boxes.clear();
@@ -496,53 +677,10 @@ void Snapshot::build(const octomap::OcTree& octree, const Roi& roi, bool full_ma
   for (int t = 0; t < threads; ++t) // OpenMP may start fewer
     parts_[static_cast<std::size_t>(t)].reset();
   split(tree->getRoot());
-  const auto n_tasks = static_cast<std::int64_t>(tasks_.size());
-#pragma omp parallel num_threads(threads)
-  {
-    const int t = omp_get_thread_num();
-    Part& part = parts_[static_cast<std::size_t>(t)];
-#pragma omp for schedule(dynamic, 1)
-    for (std::int64_t i = 0; i < n_tasks; ++i) {
-      Task& task = tasks_[static_cast<std::size_t>(i)];
-      task.part = t;
-      task.leaf_begin = part.leaves.size();
-      collect(part, task.node, task.depth, task.k);
-      task.leaf_end = part.leaves.size();
-    }
-  }
-
-  // Value indices in increasing log-odds (deterministic); 0 is unknown. Equal values
-  // (-0 and 0) are ordered by their bits, so which is kept does not depend on the
-  // thread that found it.
+  collectTasks(threads, false);
   std::vector<float> sorted;
-  leaf_count = 0;
-  for (int t = 0; t < threads; ++t) {
-    const Part& part = parts_[static_cast<std::size_t>(t)];
-    sorted.insert(sorted.end(), part.distinct.begin(), part.distinct.end());
-    leaf_count += part.leaves.size();
-  }
-  std::sort(sorted.begin(), sorted.end(), [](float a, float b) {
-    return a < b || (a == b && floatBits(a) < floatBits(b));
-  });
-  sorted.erase(std::unique(sorted.begin(), sorted.end()), sorted.end());
-  for (int t = 0; t < threads; ++t) {
-    Part& part = parts_[static_cast<std::size_t>(t)];
-    part.remap.resize(part.distinct.size());
-    for (std::size_t i = 0; i < part.distinct.size(); ++i)
-      part.remap[i] = static_cast<std::uint32_t>(
-          std::lower_bound(sorted.begin(), sorted.end(), part.distinct[i]) -
-          sorted.begin() + 1);
-  }
-  values.assign(sorted.size() + 1, Value());
-  values[0].entropy = occupancyEntropy(0.5);
-  for (std::size_t i = 0; i < sorted.size(); ++i) {
-    const double p = octomap::probability(sorted[i]); // OcTreeNode::getOccupancy()
-    Value& v = values[i + 1];
-    v.log_odds = sorted[i];
-    v.entropy = unknown_only ? 0.0 : occupancyEntropy(p);
-    v.free_prob = 1.0 - p;
-    v.occupied = sorted[i] > threshold_; // OcTree::isNodeOccupied
-  }
+  addDistinctValues(threads, sorted);
+  setValues(sorted);
 
   // The region: the ROI's keys, every stored occupied leaf, and the other stored leaves
   // where they matter (within the ROI's keys unless every voxel is needed; collect()).
@@ -553,8 +691,8 @@ void Snapshot::build(const octomap::OcTree& octree, const Roi& roi, bool full_ma
     for (int a = 0; a < 3; ++a)
       region.lo[a] = region.hi[a] = VoxelLattice::kKeyOffset;
 
-  const std::size_t max_code = (values.size() - 1) << kValueShift | kOccupied | kInRoi;
-  code_bytes = max_code <= 0xffu ? 1 : (max_code <= 0xffffu ? 2 : 4);
+  region_ = region;
+  code_bytes = codeBytes(values.size());
   bricks8.clear();
   bricks16.clear();
   bricks32.clear();
@@ -565,6 +703,128 @@ void Snapshot::build(const octomap::OcTree& octree, const Roi& roi, bool full_ma
   else
     fill(bricks32, region, threads);
   built = true;
+}
+
+bool Snapshot::update(const std::vector<std::array<int, 3>>& changed, int threads)
+{
+  threads = std::max(1, threads);
+  if (parts_.size() < static_cast<std::size_t>(threads))
+    parts_.resize(static_cast<std::size_t>(threads));
+  for (int t = 0; t < threads; ++t)
+    parts_[static_cast<std::size_t>(t)].reset();
+  tasks_.clear();
+  for (const std::array<int, 3>& b : changed) {
+    Task task;
+    task.node = nullptr;
+    task.depth = VoxelLattice::kTreeDepth - kBrickShift;
+    for (int a = 0; a < 3; ++a)
+      task.k[a] = b[static_cast<std::size_t>(a)] << kBrickShift;
+    tasks_.push_back(task);
+  }
+  collectTasks(threads, true);
+
+  // The region grows to the changed voxels the snapshot needs (it never shrinks: what
+  // lies outside a new build's region is neither in the ROI nor occupied, so the gains
+  // do not see the difference).
+  KeyBox region = region_;
+  for (int t = 0; t < threads; ++t)
+    region.extend(parts_[static_cast<std::size_t>(t)].extent);
+  if (brickCount(region) > kMaxBricks)
+    return false;
+  // The values: the old ones (some perhaps no longer in the tree) and the new ones, in
+  // the same order; codes of the old values move to their new indices.
+  std::vector<float> sorted(values.size() - 1);
+  for (std::size_t i = 1; i < values.size(); ++i)
+    sorted[i - 1] = values[i].log_odds;
+  const std::vector<float> old_sorted = sorted;
+  addDistinctValues(threads, sorted);
+  if (codeBytes(sorted.size() + 1) != code_bytes)
+    return false;
+  std::vector<std::uint32_t> remap; // old index -> new; empty: unchanged
+  if (sorted.size() != old_sorted.size()) {
+    remap.resize(values.size());
+    remap[0] = 0;
+    for (std::size_t i = 0; i < old_sorted.size(); ++i)
+      remap[i + 1] = static_cast<std::uint32_t>(
+          std::lower_bound(sorted.begin(), sorted.end(), old_sorted[i]) - sorted.begin() +
+          1);
+  }
+  built = false; // until the bricks are whole again (should they throw)
+  setValues(sorted);
+  if (code_bytes == 1)
+    updateBricks(bricks8, region, remap);
+  else if (code_bytes == 2)
+    updateBricks(bricks16, region, remap);
+  else
+    updateBricks(bricks32, region, remap);
+  built = true;
+  return true;
+}
+
+template <typename CodeT>
+void Snapshot::updateBricks(Bricks<CodeT>& bricks, const KeyBox& region,
+                            const std::vector<std::uint32_t>& remap)
+{
+  if (region.lo[0] != region_.lo[0] || region.lo[1] != region_.lo[1] ||
+      region.lo[2] != region_.lo[2] || region.hi[0] != region_.hi[0] ||
+      region.hi[1] != region_.hi[1] || region.hi[2] != region_.hi[2]) {
+    bricks.resize(region);
+    region_ = region;
+  }
+  if (!remap.empty()) {
+    const auto moved = [&](std::uint32_t c) {
+      return remap[c >> kValueShift] << kValueShift | (c & (kOccupied | kInRoi));
+    };
+    if (sizeof(CodeT) <= 2) { // every code's new code in a table
+      std::vector<CodeT> to(std::size_t{1} << (8 * sizeof(CodeT)));
+      for (std::size_t c = 0; c < to.size(); ++c)
+        to[c] = (c >> kValueShift) < remap.size()
+                    ? static_cast<CodeT>(moved(static_cast<std::uint32_t>(c)))
+                    : CodeT{0};
+      for (CodeT& c : bricks.voxels)
+        c = to[c];
+    } else {
+      for (CodeT& c : bricks.voxels)
+        c = static_cast<CodeT>(moved(c));
+    }
+    for (auto& cb : bricks.shared)
+      cb.first = moved(cb.first);
+  }
+  // Each changed brick as fill() would make it: the ROI's flags, then its leaves.
+  CodeT v[kBrickVoxels];
+  for (const Task& task : tasks_) {
+    std::size_t s;
+    if (!bricks.slotOf(task.k[0], task.k[1], task.k[2], s))
+      continue; // nothing there is needed: update() grew the box to every needed voxel
+    const int cover = roiCover(task.k);
+    std::fill(v, v + kBrickVoxels,
+              static_cast<CodeT>(cover == 2 ? kInRoi : bricks.outside));
+    if (cover == 1)
+      markRoi(task.k, v);
+    const Part& part = parts_[static_cast<std::size_t>(task.part)];
+    for (std::size_t l = task.leaf_begin; l < task.leaf_end; ++l) {
+      const Leaf& leaf = part.leaves[l];
+      const std::uint32_t value = part.remap[leaf.value];
+      const std::uint32_t base =
+          (value << kValueShift) | (values[value].occupied ? kOccupied : 0u);
+      int lo[3], hi[3];
+      for (int a = 0; a < 3; ++a) {
+        lo[a] = std::max({leaf.k[a], region_.lo[a], task.k[a]}) - task.k[a];
+        hi[a] = std::min({leaf.k[a] + (1 << leaf.shift) - 1, region_.hi[a],
+                          task.k[a] + kBrickMask}) -
+                task.k[a];
+      }
+      for (int z = lo[2]; z <= hi[2]; ++z)
+        for (int y = lo[1]; y <= hi[1]; ++y)
+          for (int x = lo[0]; x <= hi[0]; ++x) {
+            CodeT& c = v[(z << (2 * kBrickShift)) | (y << kBrickShift) | x];
+            c = static_cast<CodeT>(base | (c & kInRoi));
+          }
+    }
+    bricks.store(s, v);
+  }
+  brick_count = (bricks.voxels.size() >> (3 * kBrickShift)) - bricks.shared.size() -
+                bricks.free_bricks.size();
 }
 
 } // namespace gain_detail

@@ -2,6 +2,7 @@
 // The map snapshot of the fast information gain (internal to the planning module): the
 // voxels that can matter, in bricks of 8^3, each voxel a small code.
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <vector>
@@ -96,6 +97,10 @@ struct Bricks {
   /// fill() on several threads: each thread's new bricks, moved into `voxels` in the
   /// order one thread would have made them (kept only for their capacity).
   std::vector<std::vector<CodeT>> thread_voxels;
+  /// The bricks that uniform entries share: (code, brick) pairs, few.
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> shared;
+  /// Snapshot::update(): bricks of `voxels` no entry uses any more, to reuse.
+  std::vector<std::uint32_t> free_bricks;
 
   std::size_t slot(int rx, int ry, int rz) const
   {
@@ -132,6 +137,14 @@ struct Bricks {
   CodeT* materialize(std::size_t s);
   /// After fill(): uniform entries point to one shared brick per code.
   void shareUniformBricks();
+  /// The shared brick of `code`, made if there is none yet.
+  std::uint32_t sharedBrick(std::uint32_t code);
+  /// Snapshot::update(): the brick at slot s gets the codes `v` (512), as a shared
+  /// brick if they are all alike, else as its own.
+  void store(std::size_t s, const CodeT* v);
+  /// Snapshot::update(): the table over the bricks of `region`, a box that holds the
+  /// old one; the new slots hold `outside`.
+  void resize(const KeyBox& region);
   void clear();
 };
 
@@ -146,6 +159,14 @@ public:
   /// layout of its bricks) is the same at any thread count.
   void build(const octomap::OcTree& tree, const Roi& roi, bool full, bool unknown_only,
              int threads);
+  /// Brings the snapshot up to date after a change of its tree that changed no voxel
+  /// outside the `changed` bricks (brick coordinates, key >> 3;
+  /// OccupancyMap::getChangedBricks): reads only their voxels from the tree. Gains are
+  /// then those of a snapshot built anew (the values of voxels no longer in the tree may
+  /// stay in `values`: no voxel has them, so they add nothing). \return false, the
+  /// snapshot unchanged, where it cannot: the values need wider codes, or the region
+  /// would span more than 2^28 bricks; build() it then.
+  bool update(const std::vector<std::array<int, 3>>& changed, int threads);
 
   const octomap::OcTree* tree = nullptr;
   VoxelLattice lattice{1.0}; ///< the tree's
@@ -201,6 +222,30 @@ private:
   };
   /// Whether the subtree at `node` (depth, first key k) can hold a voxel to snapshot.
   bool matters(const octomap::OcTreeNode* node, int depth, const int k[3]) const;
+  /// collect(): a leaf that matters, the cube of 2^shift voxels from key k.
+  void addLeaf(Part& part, const int k[3], int shift, float log_odds) const;
+  /// update(): the leaves over the brick whose first key is k (a leaf larger than the
+  /// brick as the brick's cube), into `part`.
+  void collectBrick(Part& part, const int k[3]) const;
+  /// The tasks' leaves into parts_ (in parallel): their subtrees, or with `bricks` the
+  /// bricks from their first keys (collectBrick()).
+  void collectTasks(int threads, bool bricks);
+  /// Adds the parts' distinct log-odds to `sorted` (kept sorted, each value once) and
+  /// sets the parts' remap to the value indices.
+  void addDistinctValues(int threads, std::vector<float>& sorted);
+  /// `values` from the sorted distinct log-odds.
+  void setValues(const std::vector<float>& sorted);
+  /// How the ROI covers the brick whose first key is k: 0 not, 1 in part, 2 whole.
+  int roiCover(const int k[3]) const;
+  /// Sets kInRoi on the brick's voxels (first key k) that lie in an ROI box.
+  template <typename CodeT>
+  void markRoi(const int k[3], CodeT* v) const;
+  /// update() for one code width: the table grown to `region`, `remap` (old value index
+  /// -> new, empty: the same) applied to every code, then the changed bricks written
+  /// from the tasks' leaves.
+  template <typename CodeT>
+  void updateBricks(Bricks<CodeT>& bricks, const KeyBox& region,
+                    const std::vector<std::uint32_t>& remap);
   /// tasks_: the tree's top levels cut into disjoint subtrees.
   void split(const octomap::OcTreeNode* root);
   void collect(Part& part, const octomap::OcTreeNode* node, int depth,
@@ -212,6 +257,8 @@ private:
   void fillTask(const Task& task, const KeyBox& region, Writer& writer) const;
 
   float threshold_ = 0.0f;
+  bool unknown_only_ = false;
+  KeyBox region_;           ///< the keys the bricks hold (fill()'s region)
   std::vector<Part> parts_; ///< one per thread
   std::vector<Task> tasks_;
   std::vector<Task> next_tasks_; ///< split()'s buffer

@@ -5,6 +5,7 @@
 // OctoMap's.
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -831,7 +832,8 @@ struct InformationGain::Impl {
   /// The ROI's boxes the snapshot holds (all after update(); those within the
   /// candidates' reach after compute()).
   std::vector<std::size_t> snapshot_boxes;
-  std::vector<Eigen::Vector3d> dirs_C; ///< the rays (per config)
+  std::vector<std::array<int, 3>> changed_bricks; ///< buildSnapshot()'s buffer
+  std::vector<Eigen::Vector3d> dirs_C;            ///< the rays (per config)
   ImagePlane plane;
   std::vector<ThreadScratch> scratch;
 
@@ -955,18 +957,28 @@ void InformationGain::update()
 void InformationGain::buildSnapshot(const std::vector<std::size_t>& boxes)
 {
   const Stopwatch start;
+  Snapshot& snapshot = impl_->snapshot;
+  const int threads = threadsOrDefault(threads_);
+  // After one insert into the map the snapshot had, only the bricks it changed are read.
+  stats_.incremental =
+      !dirty_ && snapshot.built && &map_->getOcTree() == snapshot.tree &&
+      impl_->snapshot_boxes == boxes &&
+      map_->getChangedBricks(stats_.map_revision, impl_->changed_bricks) &&
+      snapshot.update(impl_->changed_bricks, threads);
+  if (!stats_.incremental) {
+    Roi roi;
+    for (std::size_t i : boxes)
+      roi.addBox(roi_.boxes()[i]);
+    snapshot.build(map_->getOcTree(), roi, config_.visibility_weighted,
+                   config_.unknown_only, threads);
+  }
   stats_.map_revision = map_->revision();
-  Roi roi;
-  for (std::size_t i : boxes)
-    roi.addBox(roi_.boxes()[i]);
-  impl_->snapshot.build(map_->getOcTree(), roi, config_.visibility_weighted,
-                        config_.unknown_only, threadsOrDefault(threads_));
   impl_->snapshot_boxes = boxes;
   dirty_ = false;
   stats_.update_ms = start.ms();
-  stats_.bricks = impl_->snapshot.brick_count;
-  stats_.values = impl_->snapshot.values.size();
-  stats_.leaves = impl_->snapshot.leaf_count;
+  stats_.bricks = snapshot.brick_count;
+  stats_.values = snapshot.values.size();
+  stats_.leaves = snapshot.leaf_count;
 }
 
 void InformationGain::ensureSnapshot(const std::vector<std::size_t>& boxes)

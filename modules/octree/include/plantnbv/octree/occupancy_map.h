@@ -3,10 +3,12 @@
 /// \brief OccupancyMap: the probabilistic occupancy map of the NBV loop, an
 /// octomap::OcTree with the paper's parameters and a fast, exact frame insertion.
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include <Eigen/Core>
 
@@ -186,6 +188,19 @@ public:
   /// know whether they are stale. Starts at 0.
   std::uint64_t revision() const { return revision_; }
 
+  /// \brief getChangedBricks() reports cubes of 2^kChangedBrickShift voxels a side.
+  static constexpr int kChangedBrickShift = 3;
+  /// \brief Where the last insert may have changed the map, for caches that would
+  /// otherwise read the whole tree again (InformationGain's snapshot).
+  /// \return true if the map's last change was an insert that took it from revision
+  /// `since` to revision() (that is, revision() == since + 1): `bricks` then holds the
+  /// cubes of 8^3 voxels (each as its voxel keys >> kChangedBrickShift, listed once) that
+  /// contain every voxel the insert updated, and no voxel outside them changed. false,
+  /// and `bricks` emptied, otherwise: after clear(), several changes, or an insert that
+  /// threw.
+  bool getChangedBricks(std::uint64_t since,
+                        std::vector<std::array<int, 3>>& bricks) const;
+
   /// \brief The key of the voxel holding `point_W`. \return false if the point is not
   /// finite or lies outside the octree (key then unchanged).
   bool computeKey(const Eigen::Vector3d& point_W, octomap::OcTreeKey& key) const;
@@ -247,6 +262,8 @@ private:
   std::unique_ptr<detail::OccupancyMapScratch> scratch_;
   InsertStats last_stats_;
   std::uint64_t revision_ = 0;
+  /// The revision whose insert left its changed bricks in scratch_ (none: max).
+  std::uint64_t changed_bricks_revision_ = ~std::uint64_t{0};
   std::shared_ptr<const UpdateRegion> region_;
 };
 

@@ -108,8 +108,10 @@ struct ViewGain {
 ///
 /// The snapshot is rebuilt by update(), and by compute() whenever the map's revision()
 /// changed, the map or ROI was replaced, or visibility_weighted or unknown_only changed;
-/// its cost is in
-/// getLastStats().update_ms.
+/// its cost is in getLastStats().update_ms. After a single insert into the same map,
+/// with the same ROI boxes, only the bricks of 8^3 voxels that the insert changed are
+/// read again (OccupancyMap::getChangedBricks), with the same gains as a snapshot built
+/// anew.
 ///
 /// Thread safety: compute() and update() must not run concurrently with anything else on
 /// the same object; they read the map, which must not change meanwhile. Both run on
@@ -124,14 +126,17 @@ public:
 
   /// \brief Timings and sizes of the last update() and compute().
   struct Stats {
-    double update_ms = 0.0;         ///< the last snapshot rebuild (update() or compute())
-    bool rebuilt = false;           ///< whether the last compute() rebuilt the snapshot
+    double update_ms = 0.0; ///< the last snapshot rebuild (update() or compute())
+    bool rebuilt = false;   ///< whether the last compute() rebuilt the snapshot
+    /// Whether the last rebuild read only the bricks that the map's last insert changed
+    /// (OccupancyMap::getChangedBricks), not the whole map.
+    bool incremental = false;
     double gain_ms = 0.0;           ///< last compute(), without the rebuild
     std::size_t candidates = 0;     ///< of the last compute()
     std::size_t rays_cast = 0;      ///< total over its candidates
     std::size_t bricks = 0;         ///< 8^3-voxel bricks stored in the snapshot
     std::size_t values = 0;         ///< distinct log-odds values in the snapshot
-    std::size_t leaves = 0;         ///< octree leaves copied into the snapshot
+    std::size_t leaves = 0;         ///< octree leaves the last rebuild read
     std::uint64_t map_revision = 0; ///< the map's revision() the snapshot was built at
   };
 
@@ -164,9 +169,10 @@ public:
   /// \brief The OpenMP threads of compute() and update(); 0 = OpenMP's default.
   int getNumberOfThreads() const { return threads_; }
 
-  /// \brief Rebuilds the snapshot of the map now. Called by compute() when the map's
-  /// revision() changed (so calling it is optional); call it to take the cost out of
-  /// the next compute(). \throws InvalidArgumentError if no map is set.
+  /// \brief Rebuilds the snapshot of the map now (after a single insert, only the bricks
+  /// it changed: see above). Called by compute() when the map's revision() changed (so
+  /// calling it is optional); call it to take the cost out of the next compute(). \throws
+  /// InvalidArgumentError if no map is set.
   void update();
 
   /// \brief Gains of all candidates (parallel over candidates), in the order given.
