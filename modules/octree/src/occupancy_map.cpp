@@ -763,18 +763,12 @@ void listChangedBricks(const Scratch::UsedBlock& used,
                        std::vector<std::array<int, 3>>& out)
 {
   constexpr int kBrickShift = OccupancyMap::kChangedBrickShift;
-  constexpr int kBricksPerAxis = 1 << (kBlockShift - kBrickShift);
   for (int word = 0; word < 8; ++word)
     for (std::uint64_t bits = used.changed[word]; bits != 0; bits &= bits - 1) {
-      const int b = word * 64 + __builtin_ctzll(bits); // Morton index in the block
-      std::array<int, 3> brick;
-      for (int a = 0; a < 3; ++a) {
-        int local = 0;
-        for (int bit = 0; bit < kBlockShift - kBrickShift; ++bit)
-          local |= ((b >> (3 * bit + a)) & 1) << bit;
-        brick[static_cast<std::size_t>(a)] = used.coords[a] * kBricksPerAxis + local;
-      }
-      out.push_back(brick);
+      // The brick's first voxel: Morton index (brick's index) * 8^3 in the block.
+      const auto b = static_cast<std::uint32_t>(word * 64 + __builtin_ctzll(bits));
+      const octomap::OcTreeKey k = voxelKey(used.firstKey(), b << (3 * kBrickShift));
+      out.push_back({k[0] >> kBrickShift, k[1] >> kBrickShift, k[2] >> kBrickShift});
     }
 }
 
@@ -1165,15 +1159,14 @@ void OccupancyMap::insertImpl(const pcl::PointCloud<PointT>& points_W,
                                  static_cast<octomap::key_type>((packed >> 16) & 0xffffu),
                                  static_cast<octomap::key_type>(packed & 0xffffu));
     tree_->updateNode(key, tree_->getProbMissLog(), /*lazy_eval=*/false);
+    scratch.changed_bricks.push_back({key[0] >> kChangedBrickShift,
+                                      key[1] >> kChangedBrickShift,
+                                      key[2] >> kChangedBrickShift});
   }
   stats.free_voxels += overflow.size();
   stats.tree_updates += overflow.size();
-  if (!overflow.empty()) {
+  if (!overflow.empty()) { // each brick once
     std::vector<std::array<int, 3>>& changed = scratch.changed_bricks;
-    for (const std::uint64_t packed : overflow)
-      changed.push_back({static_cast<int>(packed >> 32) >> kChangedBrickShift,
-                         static_cast<int>((packed >> 16) & 0xffffu) >> kChangedBrickShift,
-                         static_cast<int>(packed & 0xffffu) >> kChangedBrickShift});
     std::sort(changed.begin(), changed.end());
     changed.erase(std::unique(changed.begin(), changed.end()), changed.end());
   }

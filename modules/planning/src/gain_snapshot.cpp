@@ -736,18 +736,17 @@ bool Snapshot::update(const std::vector<std::array<int, 3>>& changed, int thread
   std::vector<float> sorted(values.size() - 1);
   for (std::size_t i = 1; i < values.size(); ++i)
     sorted[i - 1] = values[i].log_odds;
-  const std::vector<float> old_sorted = sorted;
   addDistinctValues(threads, sorted);
   if (codeBytes(sorted.size() + 1) != code_bytes)
     return false;
   std::vector<std::uint32_t> remap; // old index -> new; empty: unchanged
-  if (sorted.size() != old_sorted.size()) {
+  if (sorted.size() + 1 != values.size()) {
     remap.resize(values.size());
     remap[0] = 0;
-    for (std::size_t i = 0; i < old_sorted.size(); ++i)
-      remap[i + 1] = static_cast<std::uint32_t>(
-          std::lower_bound(sorted.begin(), sorted.end(), old_sorted[i]) - sorted.begin() +
-          1);
+    for (std::size_t i = 1; i < values.size(); ++i)
+      remap[i] = static_cast<std::uint32_t>(
+          std::lower_bound(sorted.begin(), sorted.end(), values[i].log_odds) -
+          sorted.begin() + 1);
   }
   built = false; // until the bricks are whole again (should they throw)
   setValues(sorted);
