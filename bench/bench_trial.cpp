@@ -15,6 +15,7 @@
 /// the trial: `views:0` is the evaluator's setup in a trial (setGroundTruth, setLevels,
 /// setBackground), `views:10` the scores and organ recall of the ten reconstructions a
 /// whole-plant NBV trial of the plant has after each of its views, in order.
+/// BM_OccupiedVoxelCentres times the occupied voxels' centres of such a trial's last map.
 /// Run (machine quiet):
 ///   bench_trial --benchmark_repetitions=3 --benchmark_report_aggregates_only=true
 
@@ -166,6 +167,33 @@ void BM_Evaluation(benchmark::State& state)
 BENCHMARK(BM_Evaluation)
     ->ArgsProduct({{3, 9}, {0, 10}, {1, 2}})
     ->ArgNames({"plant", "views", "threads"})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+
+/// The occupied voxels' centres (OccupancyMap::getOccupiedVoxelCentres, what each view's
+/// evaluation starts with) of the map a whole-plant NBV trial of the plant has after its
+/// 10 views, as a campaign runs it (the update region), on the trial's threads.
+void BM_OccupiedVoxelCentres(benchmark::State& state)
+{
+  const int seed = int(state.range(0));
+  TrialConfig config;
+  config.threads = int(state.range(1));
+  config.seed = 1;
+  Trial trial(config);
+  trial.setPlant(cachedPlant(seed));
+  trial.setAttentionRoi(wholePlantRoi(*cachedPlant(seed)));
+  trial.setEvaluationLevels(evaluationLevels(*cachedPlant(seed)));
+  TrialResult result;
+  trial.run(result);
+  CloudXYZ occupied;
+  for (auto _ : state)
+    trial.getMap().getOccupiedVoxelCentres(occupied);
+  state.counters["occupied_voxels"] = double(occupied.size());
+}
+
+BENCHMARK(BM_OccupiedVoxelCentres)
+    ->ArgsProduct({{3, 9}, {1, 2}})
+    ->ArgNames({"plant", "threads"})
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 

@@ -1,4 +1,6 @@
 #include <cmath>
+#include <cstdint>
+#include <vector>
 
 #include <gtest/gtest.h>
 #include <pcl/point_cloud.h>
@@ -6,6 +8,8 @@
 
 #include <plantnbv/common/error.h>
 #include <plantnbv/experiment/reconstruction_evaluator.h>
+#include <plantnbv/plant/plant_rois.h>
+#include <plantnbv/plant/tomato_plant_generator.h>
 #include <plantnbv/sensor/sensor_scene.h>
 
 using namespace plantnbv;
@@ -229,6 +233,74 @@ TEST(ReconstructionEvaluator, LeavesTheBackgroundsVoxelsOut)
 
   support.triangles.push_back({0, 1, 99});
   EXPECT_THROW(evaluator.setBackground(support), FormatError);
+}
+
+TEST(ReconstructionEvaluator, ScoresAndOrganRecallDoNotDependOnTheThreadCount)
+{
+  // On two threads or more the levels' parts and the organs' distances are scored side
+  // by side: the same numbers as on one thread, call after call (each part keeps the
+  // distances of the call before).
+  const Plant plant = TomatoPlantGenerator(defaultPlantConfig(2)).generate();
+  const std::vector<EvaluationLevel> levels = {{"whole_plant", wholePlantRoi(plant)},
+                                               {"main_stem", mainStemRoi(plant)},
+                                               {"leaf_nodes", leafNodeRoi(plant), true},
+                                               {"fruit", fruitRoi(plant), true}};
+  std::vector<ReconstructionEvaluator> evaluators(3);
+  for (std::size_t t = 0; t < evaluators.size(); ++t) {
+    evaluators[t].setNumberOfThreads(int(t) + 1);
+    evaluators[t].setSeed(5);
+    evaluators[t].setGroundTruth(plant);
+    evaluators[t].setLevels(levels);
+  }
+  // Reconstructions that grow: a share of the ground truth, some of it a voxel off.
+  const CloudXYZ& truth = evaluators[0].getGroundTruth();
+  ASSERT_GT(truth.size(), 1000u);
+  CloudXYZ reconstruction;
+  for (int call = 0; call < 3; ++call) {
+    for (std::size_t i = std::size_t(call); i < truth.size(); i += 5) {
+      pcl::PointXYZ p = truth[i];
+      if (i % 3 == 0)
+        p.z += 0.003f;
+      reconstruction.push_back(p);
+    }
+    std::vector<std::vector<LevelScore>> scores(evaluators.size()), alone(scores);
+    std::vector<std::vector<OrganRecall>> organs(evaluators.size()), recall(organs);
+    for (std::size_t t = 0; t < evaluators.size(); ++t) {
+      evaluators[t].compute(reconstruction, scores[t], organs[t]);
+      evaluators[t].compute(reconstruction, alone[t]);
+      evaluators[t].computeOrganRecall(reconstruction, recall[t]);
+    }
+    ASSERT_EQ(scores[0].size(), levels.size());
+    EXPECT_GT(scores[0][0].recall, 0.0);
+    for (std::size_t t = 1; t < evaluators.size(); ++t)
+      for (const auto* other : {&scores[t], &alone[t], &alone[0]}) {
+        ASSERT_EQ(other->size(), scores[0].size());
+        for (std::size_t l = 0; l < levels.size(); ++l) {
+          const LevelScore &a = scores[0][l], &b = (*other)[l];
+          EXPECT_EQ(a.precision, b.precision) << call << " " << t << " " << l;
+          EXPECT_EQ(a.recall, b.recall) << call << " " << t << " " << l;
+          EXPECT_EQ(a.f1, b.f1) << call << " " << t << " " << l;
+          EXPECT_EQ(a.reference_points, b.reference_points);
+          EXPECT_EQ(a.reconstruction_points, b.reconstruction_points);
+          EXPECT_TRUE(a.chamfer == b.chamfer ||
+                      (std::isnan(a.chamfer) && std::isnan(b.chamfer)))
+              << call << " " << t << " " << l;
+        }
+      }
+    ASSERT_EQ(organs[0].size(), evaluatedOrgans().size());
+    EXPECT_GT(organs[0][0].recall, 0.0); // the stem
+    for (std::size_t t = 0; t < evaluators.size(); ++t)
+      for (const auto* other : {&organs[t], &recall[t]}) {
+        ASSERT_EQ(other->size(), organs[0].size());
+        for (std::size_t o = 0; o < organs[0].size(); ++o) {
+          const OrganRecall &a = organs[0][o], &b = (*other)[o];
+          EXPECT_EQ(a.reference_points, b.reference_points);
+          EXPECT_TRUE(a.recall == b.recall ||
+                      (std::isnan(a.recall) && std::isnan(b.recall)))
+              << call << " " << t << " " << o;
+        }
+      }
+  }
 }
 
 TEST(ReconstructionEvaluator, ClassifiesTheVoxelsItScores)

@@ -1,7 +1,9 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <exception>
 #include <limits>
+#include <omp.h>
 #include <set>
 #include <vector>
 
@@ -368,82 +370,117 @@ ReconstructionEvaluator::withoutBackground(const CloudXYZ& reconstruction) const
 void ReconstructionEvaluator::compute(const CloudXYZ& reconstruction,
                                       std::vector<LevelScore>& scores) const
 {
-  scoreLevels(withoutBackground(reconstruction), scores);
+  score(withoutBackground(reconstruction), &scores, nullptr);
 }
 
 void ReconstructionEvaluator::computeOrganRecall(const CloudXYZ& reconstruction,
                                                  std::vector<OrganRecall>& recalls) const
 {
-  scoreOrgans(withoutBackground(reconstruction), recalls);
+  score(withoutBackground(reconstruction), nullptr, &recalls);
 }
 
 void ReconstructionEvaluator::compute(const CloudXYZ& reconstruction,
                                       std::vector<LevelScore>& scores,
                                       std::vector<OrganRecall>& recalls) const
 {
-  const CloudXYZConstPtr cloud = withoutBackground(reconstruction);
-  scoreLevels(cloud, scores);
-  scoreOrgans(cloud, recalls);
+  score(withoutBackground(reconstruction), &scores, &recalls);
 }
 
-void ReconstructionEvaluator::scoreLevels(const CloudXYZConstPtr& cloud,
-                                          std::vector<LevelScore>& scores) const
+void ReconstructionEvaluator::score(const CloudXYZConstPtr& cloud,
+                                    std::vector<LevelScore>* scores,
+                                    std::vector<OrganRecall>* recalls) const
 {
-  scores.assign(levels_.size(), LevelScore{});
-  for (std::size_t l = 0; l < levels_.size(); ++l) {
-    LevelScore& s = scores[l];
-    double chamfer_sum = 0.0;
-    std::size_t chamfer_count = 0;
-    const std::size_t parts = impl_->parts[l].size();
-    for (std::size_t p = 0; p < parts; ++p) {
-      ReconstructionMetrics& metrics = *impl_->metrics[l][p];
-      metrics.setNumberOfThreads(threads_);
-      metrics.setReconstruction(crop(cloud, impl_->parts[l][p]));
-      const MetricsResult m = metrics.compute();
+  if (recalls && !impl_->whole) // without it there are no levels either
+    throw InvalidArgumentError("ReconstructionEvaluator: no ground truth set");
+  // One job per part of a level, and one for the organs' distances (the largest, so
+  // first).
+  std::vector<std::pair<std::size_t, std::size_t>> parts; // (level, part)
+  if (scores)
+    for (std::size_t l = 0; l < levels_.size(); ++l)
+      for (std::size_t p = 0; p < impl_->parts[l].size(); ++p)
+        parts.emplace_back(l, p);
+  const long long organ_jobs = recalls ? 1 : 0;
+  const long long jobs = organ_jobs + static_cast<long long>(parts.size());
+  // On two threads or more the jobs run side by side, one thread each: much of a job is
+  // serial (its crop, the reconstruction's tree), and its numbers do not depend on its
+  // threads.
+  const int threads = threads_ > 0 ? threads_ : omp_get_max_threads();
+  const bool side_by_side = threads > 1 && jobs > 1;
+  const int job_threads = side_by_side ? 1 : threads;
+  std::vector<MetricsResult> results(parts.size());
+  std::vector<double> to_mine; // only whether each is below the resolution matters
+  std::exception_ptr error;
+#pragma omp parallel for num_threads(threads) schedule(dynamic, 1) if (side_by_side)
+  for (long long j = 0; j < jobs; ++j) {
+    try {
+      if (j < organ_jobs) {
+        ReconstructionMetrics& metrics = *impl_->whole;
+        metrics.setNumberOfThreads(job_threads);
+        metrics.setReconstruction(cloud);
+        metrics.computeDistancesBelow(resolution_m_, to_mine);
+      } else {
+        const auto [l, p] = parts[static_cast<std::size_t>(j - organ_jobs)];
+        ReconstructionMetrics& metrics = *impl_->metrics[l][p];
+        metrics.setNumberOfThreads(job_threads);
+        metrics.setReconstruction(crop(cloud, impl_->parts[l][p]));
+        results[static_cast<std::size_t>(j - organ_jobs)] = metrics.compute();
+      }
+    } catch (...) {
+#pragma omp critical(plantnbv_evaluator_error)
+      if (!error)
+        error = std::current_exception();
+    }
+  }
+  if (error)
+    std::rethrow_exception(error);
+
+  if (scores) { // each level's parts summed in order
+    scores->assign(levels_.size(), LevelScore{});
+    std::vector<double> chamfer_sum(levels_.size(), 0.0);
+    std::vector<std::size_t> chamfer_count(levels_.size(), 0);
+    for (std::size_t i = 0; i < parts.size(); ++i) {
+      const std::size_t l = parts[i].first;
+      const MetricsResult& m = results[i];
+      LevelScore& s = (*scores)[l];
       s.precision += m.precision;
       s.recall += m.recall;
       s.f1 += m.f1;
       s.reference_points += m.reference_points;
       s.reconstruction_points += m.reconstruction_points;
       if (m.valid && std::isfinite(m.chamfer)) {
-        chamfer_sum += m.chamfer;
-        ++chamfer_count;
+        chamfer_sum[l] += m.chamfer;
+        ++chamfer_count[l];
       }
     }
-    s.precision /= double(parts);
-    s.recall /= double(parts);
-    s.f1 /= double(parts);
-    s.chamfer = chamfer_count ? chamfer_sum / double(chamfer_count)
-                              : std::numeric_limits<double>::quiet_NaN();
+    for (std::size_t l = 0; l < levels_.size(); ++l) {
+      LevelScore& s = (*scores)[l];
+      const double n = double(impl_->parts[l].size());
+      s.precision /= n;
+      s.recall /= n;
+      s.f1 /= n;
+      s.chamfer = chamfer_count[l] ? chamfer_sum[l] / double(chamfer_count[l])
+                                   : std::numeric_limits<double>::quiet_NaN();
+    }
   }
-}
-
-void ReconstructionEvaluator::scoreOrgans(const CloudXYZConstPtr& cloud,
-                                          std::vector<OrganRecall>& recalls) const
-{
-  if (!impl_->whole) // without it there are no levels either: nothing scored before
-    throw InvalidArgumentError("ReconstructionEvaluator: no ground truth set");
-  ReconstructionMetrics& metrics = *impl_->whole;
-  metrics.setNumberOfThreads(threads_);
-  metrics.setReconstruction(cloud);
-  std::vector<double> to_mine; // only whether each is below the resolution matters
-  metrics.computeDistancesBelow(resolution_m_, to_mine);
-  const std::vector<PartLabel>& organs = evaluatedOrgans();
-  std::vector<std::size_t> found(organs.size(), 0);
-  recalls.assign(organs.size(), OrganRecall{});
-  for (std::size_t o = 0; o < organs.size(); ++o)
-    recalls[o].organ = organs[o];
-  for (std::size_t i = 0; i < impl_->voxel_labels.size(); ++i)
+  if (recalls) {
+    const std::vector<PartLabel>& organs = evaluatedOrgans();
+    std::vector<std::size_t> found(organs.size(), 0);
+    recalls->assign(organs.size(), OrganRecall{});
     for (std::size_t o = 0; o < organs.size(); ++o)
-      if (impl_->voxel_labels[i] & (1u << static_cast<std::uint32_t>(organs[o]))) {
-        ++recalls[o].reference_points;
-        if (to_mine[i] < resolution_m_)
-          ++found[o];
-      }
-  for (std::size_t o = 0; o < organs.size(); ++o)
-    recalls[o].recall = recalls[o].reference_points
-                            ? double(found[o]) / double(recalls[o].reference_points)
-                            : std::numeric_limits<double>::quiet_NaN();
+      (*recalls)[o].organ = organs[o];
+    for (std::size_t i = 0; i < impl_->voxel_labels.size(); ++i)
+      for (std::size_t o = 0; o < organs.size(); ++o)
+        if (impl_->voxel_labels[i] & (1u << static_cast<std::uint32_t>(organs[o]))) {
+          ++(*recalls)[o].reference_points;
+          if (to_mine[i] < resolution_m_)
+            ++found[o];
+        }
+    for (std::size_t o = 0; o < organs.size(); ++o)
+      (*recalls)[o].recall =
+          (*recalls)[o].reference_points
+              ? double(found[o]) / double((*recalls)[o].reference_points)
+              : std::numeric_limits<double>::quiet_NaN();
+  }
 }
 
 void ReconstructionEvaluator::classify(const CloudXYZ& reconstruction, std::size_t level,

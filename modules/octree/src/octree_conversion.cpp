@@ -345,6 +345,22 @@ void forEachKey(const std::int64_t* lo, const std::int64_t* hi, Emit&& emit)
       }
 }
 
+/// An occupied leaf's keys [lo, hi] per axis (OccupiedLeaves::forEach, not empty: keys
+/// of a tree of depth 16).
+struct KeyRange {
+  std::uint16_t lo[3];
+  std::uint16_t hi[3];
+};
+
+/// forEachKey over a KeyRange.
+template <typename Emit>
+void forEachKey(const KeyRange& r, Emit&& emit)
+{
+  const std::int64_t lo[3] = {r.lo[0], r.lo[1], r.lo[2]};
+  const std::int64_t hi[3] = {r.hi[0], r.hi[1], r.hi[2]};
+  forEachKey(lo, hi, emit);
+}
+
 /// The depth of the subtrees that threads walk: nodes of 32 voxels a side, hundreds of
 /// them on a plant's map.
 constexpr unsigned kSubtreeDepth = 11;
@@ -365,6 +381,10 @@ void occupiedVoxelCentres(const octomap::OcTree& tree, CloudXYZ& cloud,
   const bool parallel = threads > 1 && options.roi.empty();
   std::vector<OccupiedLeaves::Subtree> subtrees;
   std::vector<double> subtree_points;
+  // On one thread the walk keeps the occupied leaves' key ranges (12 bytes a leaf, fewer
+  // than the points, kept only while those are within the cap) and the points are made
+  // from them: one walk of the tree instead of two.
+  std::vector<KeyRange> ranges;
   double points = 0.0;
   if (parallel) {
     subtrees = leaves.subtrees(kSubtreeDepth);
@@ -381,7 +401,18 @@ void occupiedVoxelCentres(const octomap::OcTree& tree, CloudXYZ& cloud,
     for (double count : subtree_points)
       points += count; // whole numbers: the same sum as count()'s
   } else {
-    points = leaves.count();
+    const double cap_points =
+        options.memory_cap_bytes / static_cast<double>(sizeof(pcl::PointXYZ));
+    leaves.forEach([&](const std::int64_t* lo, const std::int64_t* hi) {
+      const double voxels = OccupiedLeaves::voxels(lo, hi);
+      points += voxels; // the same sum as count()'s
+      if (voxels > 0.0 && points <= cap_points)
+        ranges.push_back(
+            {{static_cast<std::uint16_t>(lo[0]), static_cast<std::uint16_t>(lo[1]),
+              static_cast<std::uint16_t>(lo[2])},
+             {static_cast<std::uint16_t>(hi[0]), static_cast<std::uint16_t>(hi[1]),
+              static_cast<std::uint16_t>(hi[2])}});
+    });
   }
   std::ostringstream what;
   what << std::setprecision(3) << "the octree's occupied voxels of "
@@ -415,15 +446,19 @@ void occupiedVoxelCentres(const octomap::OcTree& tree, CloudXYZ& cloud,
                          });
                        });
     }
+  } else if (options.roi.empty()) {
+    cloud.resize(static_cast<std::size_t>(points));
+    std::size_t k = 0;
+    for (const KeyRange& r : ranges)
+      forEachKey(r,
+                 [&](const octomap::OcTreeKey& key) { cloud[k++] = point(centre(key)); });
   } else {
-    const bool use_roi = !options.roi.empty();
-    leaves.forEach([&](const std::int64_t* lo, const std::int64_t* hi) {
-      forEachKey(lo, hi, [&](const octomap::OcTreeKey& key) {
+    for (const KeyRange& r : ranges)
+      forEachKey(r, [&](const octomap::OcTreeKey& key) {
         const Eigen::Vector3d c = centre(key);
-        if (!use_roi || options.roi.contains(c))
+        if (options.roi.contains(c))
           cloud.push_back(point(c));
       });
-    });
   }
   cloud.width = static_cast<std::uint32_t>(cloud.size());
   cloud.height = 1;

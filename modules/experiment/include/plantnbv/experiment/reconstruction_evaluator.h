@@ -102,7 +102,9 @@ public:
   double getResolution() const { return resolution_m_; }
   /// \brief Seed of the surface sampling. Default 0.
   void setSeed(std::uint64_t seed) { seed_ = seed; }
-  /// \brief Threads of the metrics (0: OpenMP's default). Results do not depend on it.
+  /// \brief Threads of the sampling and the metrics (0: OpenMP's default). On two or
+  /// more, compute() scores the levels' parts (and the organs' recall) side by side, one
+  /// thread each. Results do not depend on it.
   void setNumberOfThreads(int threads);
 
   /// \brief Samples and voxelizes the plant (mesh, or scan points if it has no mesh).
@@ -161,10 +163,10 @@ public:
 private:
   /// `reconstruction` less the background's voxels (setBackground).
   CloudXYZConstPtr withoutBackground(const CloudXYZ& reconstruction) const;
-  /// compute() and computeOrganRecall() of a reconstruction without its background.
-  void scoreLevels(const CloudXYZConstPtr& cloud, std::vector<LevelScore>& scores) const;
-  void scoreOrgans(const CloudXYZConstPtr& cloud,
-                   std::vector<OrganRecall>& recalls) const;
+  /// compute() (scores) and computeOrganRecall() (recalls) of a reconstruction without
+  /// its background; either may be null.
+  void score(const CloudXYZConstPtr& cloud, std::vector<LevelScore>* scores,
+             std::vector<OrganRecall>* recalls) const;
 
   struct Impl;
   std::unique_ptr<Impl> impl_;
