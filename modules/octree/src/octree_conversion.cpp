@@ -385,6 +385,9 @@ void occupiedVoxelCentres(const octomap::OcTree& tree, CloudXYZ& cloud,
   // than the points, kept only while those are within the cap) and the points are made
   // from them: one walk of the tree instead of two.
   std::vector<KeyRange> ranges;
+  const auto pointBytes = [](double points) {
+    return points * static_cast<double>(sizeof(pcl::PointXYZ));
+  };
   double points = 0.0;
   if (parallel) {
     subtrees = leaves.subtrees(kSubtreeDepth);
@@ -401,12 +404,10 @@ void occupiedVoxelCentres(const octomap::OcTree& tree, CloudXYZ& cloud,
     for (double count : subtree_points)
       points += count; // whole numbers: the same sum as count()'s
   } else {
-    const double cap_points =
-        options.memory_cap_bytes / static_cast<double>(sizeof(pcl::PointXYZ));
     leaves.forEach([&](const std::int64_t* lo, const std::int64_t* hi) {
       const double voxels = OccupiedLeaves::voxels(lo, hi);
       points += voxels; // the same sum as count()'s
-      if (voxels > 0.0 && points <= cap_points)
+      if (voxels > 0.0 && pointBytes(points) <= options.memory_cap_bytes)
         ranges.push_back(
             {{static_cast<std::uint16_t>(lo[0]), static_cast<std::uint16_t>(lo[1]),
               static_cast<std::uint16_t>(lo[2])},
@@ -417,8 +418,7 @@ void occupiedVoxelCentres(const octomap::OcTree& tree, CloudXYZ& cloud,
   std::ostringstream what;
   what << std::setprecision(3) << "the octree's occupied voxels of "
        << tree.getResolution() << " m (" << points << " points)";
-  requireWithinMemoryCap(points * static_cast<double>(sizeof(pcl::PointXYZ)),
-                         options.memory_cap_bytes, what.str());
+  requireWithinMemoryCap(pointBytes(points), options.memory_cap_bytes, what.str());
   cloud.clear();
   const auto centre = [&tree](const octomap::OcTreeKey& key) {
     return Eigen::Vector3d(tree.keyToCoord(key[0]), tree.keyToCoord(key[1]),
