@@ -211,7 +211,8 @@ public:
     ++current_;
   }
   /// The 8 bit words of the brick at brick coordinates b; null outside the ROI's bricks.
-  std::uint64_t* brick(int bx, int by, int bz)
+  /// Inlined: called at every brick a ray enters.
+  inline __attribute__((always_inline)) std::uint64_t* brick(int bx, int by, int bz)
   {
     const unsigned rx = static_cast<unsigned>(bx - b0_[0]);
     const unsigned ry = static_cast<unsigned>(by - b0_[1]);
@@ -553,7 +554,9 @@ PLANTNBV_ALWAYS_INLINE void loadBrick(const Bricks<CodeT>& bricks, RoiSeen& seen
 /// Visits a voxel of the cursor's brick: counts it if it is in the ROI and new (an
 /// unknown one only while the ray's `unknown_left` lasts); false if the ray ends after
 /// it: an occupied voxel, or with `ends_at_depth` the last unknown one it may count.
-template <typename CodeT>
+/// `kDepthLimited`: GainConfig::unknown_depth > 0 (else `unknown_left` is not read; one
+/// value less for the walk to keep in registers).
+template <typename CodeT, bool kDepthLimited>
 PLANTNBV_ALWAYS_INLINE bool visitVoxel(const Cursor<CodeT>& c, std::uint32_t* counts,
                                        int& unknown_left, bool ends_at_depth, int kx,
                                        int ky, int kz)
@@ -562,7 +565,7 @@ PLANTNBV_ALWAYS_INLINE bool visitVoxel(const Cursor<CodeT>& c, std::uint32_t* co
   const unsigned code = c.voxels[local];
   if (code & kInRoi) {
     const bool unknown = code >> kValueShift == 0;
-    if (unknown) {
+    if (kDepthLimited && unknown) {
       if (unknown_left == 0)
         return true; // deeper than GainConfig::unknown_depth on this ray
       --unknown_left;
@@ -573,7 +576,7 @@ PLANTNBV_ALWAYS_INLINE bool visitVoxel(const Cursor<CodeT>& c, std::uint32_t* co
       word |= bit;
       ++counts[code >> kValueShift];
     }
-    if (unknown && ends_at_depth && unknown_left == 0)
+    if (kDepthLimited && unknown && ends_at_depth && unknown_left == 0)
       return false;
   }
   return !(code & kOccupied);
@@ -582,24 +585,24 @@ PLANTNBV_ALWAYS_INLINE bool visitVoxel(const Cursor<CodeT>& c, std::uint32_t* co
 /// One ray's constants for jumps over bricks where nothing matters.
 struct JumpRay {
   rt::MarchRay march;
-  int end[3];    ///< key_end
-  double length; ///< OctoMap's float length
-  double t_last; ///< past this nothing counts
+  int end[3];         ///< key_end
+  double length;      ///< OctoMap's float length
+  double stop_checks; ///< rt::stopChecksFrom: no stop rule holds before it
+  double t_last;      ///< past this nothing counts
 };
 
 /// In a brick where nothing matters (nothing in the ROI, nothing occupied): finds where
 /// the next brick that matters begins (rt::nextBrickEntry) and takes at once every
 /// traversal step that enters a voxel before it (rt::advanceBelow). The jump stops
 /// `margin` short of that brick (far more than the rounding of these distances, ~1e-13
-/// m) and two voxels short of the segment's end, so no jumped step is the end voxel or
-/// trips OctoMap's length rule.
+/// m) and two voxels short of the segment's end (rt::stopChecksFrom), so no jumped step
+/// is the end voxel or trips OctoMap's length rule.
 /// \return 1: nothing on the rest of the ray counts (stop it); 0: continue from t, k.
 template <typename CodeT>
 int jumpEmpty(const Bricks<CodeT>& bricks, const JumpRay& ray,
               const VoxelLattice& lattice, double margin, double t_entry, double t[3],
               int k[3])
 {
-  const double res = lattice.resolution();
   int b[3] = {k[0] >> kBrickShift, k[1] >> kBrickShift, k[2] >> kBrickShift};
   const double limit = std::min(ray.t_last, ray.length) + margin;
   const double t_next = rt::nextBrickEntry(ray.march, lattice, kBrickShift, b, limit,
@@ -619,13 +622,13 @@ int jumpEmpty(const Bricks<CodeT>& bricks, const JumpRay& ray,
       return 1;
     target = ray.length;
   }
-  target = std::min(target, ray.length - 2.0 * res);
+  target = std::min(target, ray.stop_checks);
   if (target > t_entry)
     rt::advanceBelow(ray.march, target, t, k);
   return 0;
 }
 
-template <typename CodeT>
+template <typename CodeT, bool kDepthLimited>
 ViewGain computeFast(const Snapshot& snap, const Bricks<CodeT>& bricks,
                      const GainConfig& config, const ImagePlane& plane,
                      const std::vector<Eigen::Vector3d>& dirs, ThreadScratch& scratch,
@@ -680,8 +683,8 @@ ViewGain computeFast(const Snapshot& snap, const Bricks<CodeT>& bricks,
     if (!rt::setupRay(origin, end, key_origin, key_end, snap.lattice, s)) {
       Cursor<CodeT> cursor;
       loadBrick(bricks, seen, key_end[0], key_end[1], key_end[2], cursor); // one voxel
-      visitVoxel(cursor, counts, unknown_left, ends_at_depth, key_end[0], key_end[1],
-                 key_end[2]);
+      visitVoxel<CodeT, kDepthLimited>(cursor, counts, unknown_left, ends_at_depth,
+                                       key_end[0], key_end[1], key_end[2]);
       continue;
     }
     double tx = s.t_max[0], ty = s.t_max[1], tz = s.t_max[2];
@@ -689,9 +692,6 @@ ViewGain computeFast(const Snapshot& snap, const Bricks<CodeT>& bricks,
     const int sx = s.step[0], sy = s.step[1], sz = s.step[2];
     const int ex = key_end[0], ey = key_end[1], ez = key_end[2];
     const double length = s.length;
-    // key & 7 right after a step into a new brick, per axis.
-    const int wrap_x = sx > 0 ? 0 : kBrickMask, wrap_y = sy > 0 ? 0 : kBrickMask,
-              wrap_z = sz > 0 ? 0 : kBrickMask;
     int kx = key_origin[0], ky = key_origin[1], kz = key_origin[2];
 
     // Outside the snapshot's table nothing counts or stops a ray: start the walk where
@@ -715,8 +715,12 @@ ViewGain computeFast(const Snapshot& snap, const Bricks<CodeT>& bricks,
       jr.end[a] = key_end[a];
     jr.length = length;
     jr.t_last = t_last;
+    // Neither OctoMap's stop rules nor t_last can end the walk before checks_from.
+    const double stop_checks = rt::stopChecksFrom(s, snap.lattice);
+    const double checks_from = std::min(stop_checks, t_last);
+    jr.stop_checks = stop_checks;
     Cursor<CodeT> cursor;
-    const double target = std::min(t_first, length - 2.0 * res);
+    const double target = std::min(t_first, stop_checks);
     if (target > 0.0) {
       // Every step that enters a voxel before `target` at once; none of them reaches
       // the end voxel (two voxels short).
@@ -728,7 +732,8 @@ ViewGain computeFast(const Snapshot& snap, const Bricks<CodeT>& bricks,
       loadBrick(bricks, seen, kx, ky, kz, cursor); // its voxel lies outside the table
     } else {
       loadBrick(bricks, seen, kx, ky, kz, cursor);
-      if (!visitVoxel(cursor, counts, unknown_left, ends_at_depth, kx, ky, kz))
+      if (!visitVoxel<CodeT, kDepthLimited>(cursor, counts, unknown_left, ends_at_depth,
+                                            kx, ky, kz))
         continue; // the ray ends at the camera's voxel
     }
     bool reached_end = false;
@@ -737,19 +742,23 @@ ViewGain computeFast(const Snapshot& snap, const Bricks<CodeT>& bricks,
       double t_entry;
       const int axis =
           rt::ddaStep(tx, ty, tz, dx, dy, dz, sx, sy, sz, kx, ky, kz, t_entry);
-      const bool new_brick = axis == 0   ? (kx & kBrickMask) == wrap_x
-                             : axis == 1 ? (ky & kBrickMask) == wrap_y
-                                         : (kz & kBrickMask) == wrap_z;
-      if (kx == ex && ky == ey && kz == ez) {
-        reached_end = true;
-        break;
+      // A step into a new brick changes the key's bits above the brick's (keys are
+      // >= 0): no per-axis constant to keep in a register.
+      const bool new_brick = axis == 0   ? (kx ^ (kx - sx)) > kBrickMask
+                             : axis == 1 ? (ky ^ (ky - sy)) > kBrickMask
+                                         : (kz ^ (kz - sz)) > kBrickMask;
+      if (t_entry >= checks_from) { // no stop before (one test a step instead of five)
+        if (kx == ex && ky == ey && kz == ez) {
+          reached_end = true;
+          break;
+        }
+        if (std::min(std::min(tx, ty), tz) > length) {
+          reached_end = true; // OctoMap's stop for rays that miss the end voxel
+          break;
+        }
+        if (t_entry > t_last)
+          break; // past the ROI or the table: nothing more counts
       }
-      if (std::min(std::min(tx, ty), tz) > length) {
-        reached_end = true; // OctoMap's stop for rays that miss the end voxel
-        break;
-      }
-      if (t_entry > t_last)
-        break; // past the ROI or the table: nothing more counts
       if (new_brick) {
         loadBrick(bricks, seen, kx, ky, kz, cursor);
         if (cursor.empty) {
@@ -769,13 +778,14 @@ ViewGain computeFast(const Snapshot& snap, const Bricks<CodeT>& bricks,
           continue;
         }
       }
-      if (!cursor.empty &&
-          !visitVoxel(cursor, counts, unknown_left, ends_at_depth, kx, ky, kz))
+      if (!cursor.empty && !visitVoxel<CodeT, kDepthLimited>(cursor, counts, unknown_left,
+                                                             ends_at_depth, kx, ky, kz))
         break; // occupied, or the last unknown voxel the ray may count
     }
     if (reached_end) {
       loadBrick(bricks, seen, ex, ey, ez, cursor);
-      visitVoxel(cursor, counts, unknown_left, ends_at_depth, ex, ey, ez);
+      visitVoxel<CodeT, kDepthLimited>(cursor, counts, unknown_left, ends_at_depth, ex,
+                                       ey, ez);
     }
   }
 
@@ -822,7 +832,9 @@ ViewGain computeWith(const Snapshot& snap, const Bricks<CodeT>& bricks,
     return computeGeneral<CodeT, true>(snap, bricks, config, plane, dirs, scratch, view);
   if (!snap.roi_mode)
     return computeGeneral<CodeT, false>(snap, bricks, config, plane, dirs, scratch, view);
-  return computeFast<CodeT>(snap, bricks, config, plane, dirs, scratch, view);
+  if (config.unknown_depth > 0)
+    return computeFast<CodeT, true>(snap, bricks, config, plane, dirs, scratch, view);
+  return computeFast<CodeT, false>(snap, bricks, config, plane, dirs, scratch, view);
 }
 
 } // namespace

@@ -514,19 +514,20 @@ inline void advanceBelowTogether(const MarchRay* const rays[], const double targ
   }
 }
 
-namespace detail {
-/// What traverseRayInRegion's jump did: no brick of the region before the end; the
-/// state moved on (the visitor resumes there); or nothing, the gap is walked.
-enum class Jump { stop, jumped, walk };
-
-/// Where a walk starts to check OctoMap's stop rules: a voxel entered more than two
-/// voxels (> sqrt(3)) short of the segment's length is left before it, so it is not the
-/// end voxel and OctoMap's length rule cannot stop there.
-inline double checksFrom(const RaySetup& s, const VoxelLattice& lattice)
+/// \brief Where a walk must start to check OctoMap's stop rules (the end voxel, the
+/// segment's length): a voxel entered more than two voxels (> sqrt(3), its longest
+/// chord) short of the segment's length is left before the length, so it is not the end
+/// voxel and the length rule cannot stop there. Walks test the rules only from here on.
+inline double stopChecksFrom(const RaySetup& s, const VoxelLattice& lattice)
 {
   const float length = s.length;
   return length - 2.0 * lattice.resolution();
 }
+
+namespace detail {
+/// What traverseRayInRegion's jump did: no brick of the region before the end; the
+/// state moved on (the visitor resumes there); or nothing, the gap is walked.
+enum class Jump { stop, jumped, walk };
 
 /// Where traverseRayInRegion's jump goes: to kJumpMarginVoxels short of the next brick
 /// of the region, at most to `checks_from`. The march starts at `march_from` (at most
@@ -667,7 +668,7 @@ inline void startRayInRegion(const float origin[3], const float end[3],
       return;
     r.march = marchRay(origin, r.setup);
     const detail::Jump j = detail::planJump(r.march, lattice, region, r.setup.length,
-                                            detail::checksFrom(r.setup, lattice), 0.0,
+                                            stopChecksFrom(r.setup, lattice), 0.0,
                                             clear_until, r.k, r.walk_until, r.advance_to);
     r.state = j == detail::Jump::stop   ? State::origin
               : j == detail::Jump::walk ? State::walk
@@ -746,7 +747,7 @@ void walkRayInRegion(const float origin[3], const int key_origin[3], const int k
   const int ex = key_end[0], ey = key_end[1], ez = key_end[2];
   const float length = s.length;
   int kx = r.k[0], ky = r.k[1], kz = r.k[2];
-  const double checks_from = detail::checksFrom(s, lattice);
+  const double checks_from = stopChecksFrom(s, lattice);
 
   // The region's jumps (none over the whole lattice; detail::jumpToNextBrick). Within a
   // gap being walked (shorter than kMinJumpVoxels) no brick is checked.
