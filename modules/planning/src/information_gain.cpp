@@ -30,6 +30,9 @@ namespace plantnbv {
 namespace rt = ray_traversal;
 using namespace gain_detail;
 
+// For the fast kernel's per-voxel and per-brick helpers: their state stays in registers.
+#define PLANTNBV_ALWAYS_INLINE inline __attribute__((always_inline))
+
 namespace {
 
 /// setNumberOfThreads()'s value, 0 meaning OpenMP's default.
@@ -212,7 +215,7 @@ public:
   }
   /// The 8 bit words of the brick at brick coordinates b; null outside the ROI's bricks.
   /// Inlined: called at every brick a ray enters.
-  inline __attribute__((always_inline)) std::uint64_t* brick(int bx, int by, int bz)
+  PLANTNBV_ALWAYS_INLINE std::uint64_t* brick(int bx, int by, int bz)
   {
     const unsigned rx = static_cast<unsigned>(bx - b0_[0]);
     const unsigned ry = static_cast<unsigned>(by - b0_[1]);
@@ -508,8 +511,6 @@ ViewGain computeGeneral(const Snapshot& snap, const Bricks<CodeT>& bricks,
 }
 
 // --- the fast kernel (ROI, unweighted) -------------------------------------------------
-
-#define PLANTNBV_ALWAYS_INLINE inline __attribute__((always_inline))
 
 /// Whether the brick at brick coordinates b holds something that counts or stops rays.
 template <typename CodeT>
