@@ -109,16 +109,33 @@ void MeshSampler::draw(Store&& store) const
   const int threads = threads_ > 0 ? threads_ : omp_get_max_threads();
   // The random numbers are drawn on one thread, three per point in point order, a batch
   // at a time; the points are then made from them on `threads`: the same points for any
-  // thread count.
+  // thread count. Within a batch they are made in increasing u (a counting sort on u's
+  // bucket), so that the area table, the guide and the triangles are read front to back
+  // instead of at random: the same points, stored at their own index.
   constexpr std::size_t kBatch = std::size_t{1} << 16;
-  std::vector<double> draws(3 * std::min(n_points_, kBatch));
+  constexpr std::size_t kBuckets = std::size_t{1} << 12;
+  const std::size_t batch = std::min(n_points_, kBatch);
+  std::vector<double> draws(3 * batch);
+  std::vector<std::uint32_t> order(batch);
+  std::vector<std::uint32_t> bucket_end(kBuckets + 1);
   for (std::size_t first = 0; first < n_points_; first += kBatch) {
     const std::size_t count = std::min(kBatch, n_points_ - first);
     for (std::size_t k = 0; k < 3 * count; ++k)
       draws[k] = rng.uniform();
+    const auto bucketOf = [&](std::size_t k) {
+      return static_cast<std::size_t>(draws[3 * k] * static_cast<double>(kBuckets));
+    };
+    std::fill(bucket_end.begin(), bucket_end.end(), 0u);
+    for (std::size_t k = 0; k < count; ++k)
+      ++bucket_end[bucketOf(k) + 1];
+    for (std::size_t b = 1; b <= kBuckets; ++b)
+      bucket_end[b] += bucket_end[b - 1];
+    for (std::size_t k = 0; k < count; ++k)
+      order[bucket_end[bucketOf(k)]++] = static_cast<std::uint32_t>(k);
 #pragma omp parallel for num_threads(threads) schedule(static) if (threads > 1)
-    for (std::ptrdiff_t k = 0; k < static_cast<std::ptrdiff_t>(count); ++k) {
-      const double* d = &draws[3 * static_cast<std::size_t>(k)];
+    for (std::ptrdiff_t i = 0; i < static_cast<std::ptrdiff_t>(count); ++i) {
+      const std::size_t k = order[static_cast<std::size_t>(i)];
+      const double* d = &draws[3 * k];
       const double u = d[0] * total_area_;
       // The first triangle whose cumulative area exceeds u: zero-area ones never qualify.
       const std::size_t t = std::min(triangleAt(u), last_with_area);
@@ -129,8 +146,7 @@ void MeshSampler::draw(Store&& store) const
       // Uniform in the triangle: sqrt warps the first coordinate (Osada et al. 2002).
       const double s = std::sqrt(d[1]);
       const double r = d[2];
-      store(first + static_cast<std::size_t>(k),
-            (1.0 - s) * a + s * (1.0 - r) * b + s * r * c, t);
+      store(first + k, (1.0 - s) * a + s * (1.0 - r) * b + s * r * c, t);
     }
   }
 }
