@@ -631,18 +631,74 @@ void Snapshot::addDistinctValues(int threads, std::vector<float>& sorted)
   }
 }
 
+Value Snapshot::valueOf(float log_odds) const
+{
+  const double p = octomap::probability(log_odds); // OcTreeNode::getOccupancy()
+  Value v;
+  v.log_odds = log_odds;
+  v.entropy = unknown_only_ ? 0.0 : occupancyEntropy(p);
+  v.free_prob = 1.0 - p;
+  v.occupied = log_odds > threshold_; // OcTree::isNodeOccupied
+  return v;
+}
+
 void Snapshot::setValues(const std::vector<float>& sorted)
 {
-  values.assign(sorted.size() + 1, Value());
+  values.assign(1, Value());
   values[0].entropy = occupancyEntropy(0.5);
-  for (std::size_t i = 0; i < sorted.size(); ++i) {
-    const double p = octomap::probability(sorted[i]); // OcTreeNode::getOccupancy()
-    Value& v = values[i + 1];
-    v.log_odds = sorted[i];
-    v.entropy = unknown_only_ ? 0.0 : occupancyEntropy(p);
-    v.free_prob = 1.0 - p;
-    v.occupied = sorted[i] > threshold_; // OcTree::isNodeOccupied
+  for (float log_odds : sorted)
+    values.push_back(valueOf(log_odds));
+  orderValues();
+}
+
+void Snapshot::orderValues()
+{
+  value_order.resize(values.size());
+  for (std::size_t i = 0; i < values.size(); ++i)
+    value_order[i] = static_cast<std::uint32_t>(i);
+  std::sort(value_order.begin() + 1, value_order.end(),
+            [this](std::uint32_t a, std::uint32_t b) {
+              return valueBefore(values[a].log_odds, values[b].log_odds);
+            });
+}
+
+bool Snapshot::findValue(float log_odds, std::uint32_t& index) const
+{
+  const auto known = std::lower_bound(
+      value_order.begin() + 1, value_order.end(), log_odds,
+      [this](std::uint32_t v, float x) { return values[v].log_odds < x; });
+  if (known == value_order.end() || !(values[*known].log_odds == log_odds))
+    return false;
+  index = *known;
+  return true;
+}
+
+bool Snapshot::addNewValues(int threads)
+{
+  // The parts' log-odds that no value has yet (equal ones are one value, as in
+  // addDistinctValues), in increasing log-odds.
+  std::vector<float> added;
+  std::uint32_t index;
+  for (int t = 0; t < threads; ++t)
+    for (float log_odds : parts_[static_cast<std::size_t>(t)].distinct)
+      if (!findValue(log_odds, index))
+        added.push_back(log_odds);
+  std::sort(added.begin(), added.end(), valueBefore);
+  added.erase(std::unique(added.begin(), added.end()), added.end());
+  if (codeBytes(values.size() + added.size()) != code_bytes)
+    return false;
+  for (float log_odds : added)
+    values.push_back(valueOf(log_odds));
+  orderValues();
+  for (int t = 0; t < threads; ++t) {
+    Part& part = parts_[static_cast<std::size_t>(t)];
+    part.remap.resize(part.distinct.size());
+    for (std::size_t i = 0; i < part.distinct.size(); ++i) {
+      findValue(part.distinct[i], index); // found: every one is a value now
+      part.remap[i] = index;
+    }
   }
+  return true;
 }
 
 void Snapshot::build(const octomap::OcTree& octree, const Roi& roi, bool full_map,
@@ -731,63 +787,32 @@ bool Snapshot::update(const std::vector<std::array<int, 3>>& changed, int thread
     region.extend(parts_[static_cast<std::size_t>(t)].extent);
   if (brickCount(region) > kMaxBricks)
     return false;
-  // The values: the old ones (some perhaps no longer in the tree) and the new ones, in
-  // the same order; codes of the old values move to their new indices.
-  std::vector<float> sorted(values.size() - 1);
-  for (std::size_t i = 1; i < values.size(); ++i)
-    sorted[i - 1] = values[i].log_odds;
-  addDistinctValues(threads, sorted);
-  if (codeBytes(sorted.size() + 1) != code_bytes)
-    return false;
-  std::vector<std::uint32_t> remap; // old index -> new; empty: unchanged
-  if (sorted.size() + 1 != values.size()) {
-    remap.resize(values.size());
-    remap[0] = 0;
-    for (std::size_t i = 1; i < values.size(); ++i)
-      remap[i] = static_cast<std::uint32_t>(
-          std::lower_bound(sorted.begin(), sorted.end(), values[i].log_odds) -
-          sorted.begin() + 1);
-  }
+  // The values: the old ones keep their indices (some perhaps no longer in the tree: no
+  // voxel has them, so they add nothing), the new ones take the next, so that no code
+  // changes; the gain sums over them in value_order, a new build's order.
   built = false; // until the bricks are whole again (should they throw)
-  setValues(sorted);
+  if (!addNewValues(threads)) {
+    built = true; // unchanged
+    return false;
+  }
   if (code_bytes == 1)
-    updateBricks(bricks8, region, remap);
+    updateBricks(bricks8, region);
   else if (code_bytes == 2)
-    updateBricks(bricks16, region, remap);
+    updateBricks(bricks16, region);
   else
-    updateBricks(bricks32, region, remap);
+    updateBricks(bricks32, region);
   built = true;
   return true;
 }
 
 template <typename CodeT>
-void Snapshot::updateBricks(Bricks<CodeT>& bricks, const KeyBox& region,
-                            const std::vector<std::uint32_t>& remap)
+void Snapshot::updateBricks(Bricks<CodeT>& bricks, const KeyBox& region)
 {
   if (region.lo[0] != region_.lo[0] || region.lo[1] != region_.lo[1] ||
       region.lo[2] != region_.lo[2] || region.hi[0] != region_.hi[0] ||
       region.hi[1] != region_.hi[1] || region.hi[2] != region_.hi[2]) {
     bricks.resize(region);
     region_ = region;
-  }
-  if (!remap.empty()) {
-    const auto moved = [&](std::uint32_t c) {
-      return remap[c >> kValueShift] << kValueShift | (c & (kOccupied | kInRoi));
-    };
-    if (sizeof(CodeT) <= 2) { // every code's new code in a table
-      std::vector<CodeT> to(std::size_t{1} << (8 * sizeof(CodeT)));
-      for (std::size_t c = 0; c < to.size(); ++c)
-        to[c] = (c >> kValueShift) < remap.size()
-                    ? static_cast<CodeT>(moved(static_cast<std::uint32_t>(c)))
-                    : CodeT{0};
-      for (CodeT& c : bricks.voxels)
-        c = to[c];
-    } else {
-      for (CodeT& c : bricks.voxels)
-        c = static_cast<CodeT>(moved(c));
-    }
-    for (auto& cb : bricks.shared)
-      cb.first = moved(cb.first);
   }
   // Each changed brick as fill() would make it: the ROI's flags, then its leaves.
   CodeT v[kBrickVoxels];

@@ -177,6 +177,10 @@ public:
   KeyBox roi_bbox;                 ///< their union's bounding box
   std::vector<ClipBox> clip_boxes; ///< the ROI boxes grown by one voxel
   std::vector<Value> values;       ///< by value index; 0 = unknown
+  /// The value indices in the order the gain sums over them: unknown (0) first, then by
+  /// increasing log-odds. A build's indices are in that order already; update() gives
+  /// new values the next indices, and this keeps the sums those of a new build.
+  std::vector<std::uint32_t> value_order;
   Bricks<std::uint8_t> bricks8;
   Bricks<std::uint16_t> bricks16;
   Bricks<std::uint32_t> bricks32;
@@ -233,19 +237,27 @@ private:
   /// Adds the parts' distinct log-odds to `sorted` (kept sorted, each value once) and
   /// sets the parts' remap to the value indices.
   void addDistinctValues(int threads, std::vector<float>& sorted);
-  /// `values` from the sorted distinct log-odds.
+  /// `values` and `value_order` from the sorted distinct log-odds.
   void setValues(const std::vector<float>& sorted);
+  /// `value_order` from `values`.
+  void orderValues();
+  /// What a voxel of these log-odds stands for.
+  Value valueOf(float log_odds) const;
+  /// The index of the value equal to `log_odds`; false if there is none.
+  bool findValue(float log_odds, std::uint32_t& index) const;
+  /// update(): the parts' log-odds that are not values yet appended as values (in
+  /// increasing log-odds), and the parts' remap set. \return false, nothing changed,
+  /// where the values would need wider codes.
+  bool addNewValues(int threads);
   /// How the ROI covers the brick whose first key is k: 0 not, 1 in part, 2 whole.
   int roiCover(const int k[3]) const;
   /// Sets kInRoi on the brick's voxels (first key k) that lie in an ROI box.
   template <typename CodeT>
   void markRoi(const int k[3], CodeT* v) const;
-  /// update() for one code width: the table grown to `region`, `remap` (old value index
-  /// -> new, empty: the same) applied to every code, then the changed bricks written
-  /// from the tasks' leaves.
+  /// update() for one code width: the table grown to `region`, then the changed bricks
+  /// written from the tasks' leaves.
   template <typename CodeT>
-  void updateBricks(Bricks<CodeT>& bricks, const KeyBox& region,
-                    const std::vector<std::uint32_t>& remap);
+  void updateBricks(Bricks<CodeT>& bricks, const KeyBox& region);
   /// tasks_: the tree's top levels cut into disjoint subtrees.
   void split(const octomap::OcTreeNode* root);
   void collect(Part& part, const octomap::OcTreeNode* node, int depth,

@@ -501,7 +501,7 @@ ViewGain computeGeneral(const Snapshot& snap, const Bricks<CodeT>& bricks,
       result.gain += vis * snap.values[value].entropy;
     });
   } else {
-    for (std::size_t v = 0; v < snap.values.size(); ++v) {
+    for (const std::uint32_t v : snap.value_order) {
       result.voxels_seen += scratch.counts[v];
       result.gain += static_cast<double>(scratch.counts[v]) * snap.values[v].entropy;
     }
@@ -790,7 +790,7 @@ ViewGain computeFast(const Snapshot& snap, const Bricks<CodeT>& bricks,
     }
   }
 
-  for (std::size_t v = 0; v < snap.values.size(); ++v) {
+  for (const std::uint32_t v : snap.value_order) {
     result.voxels_seen += counts[v];
     result.gain += static_cast<double>(counts[v]) * snap.values[v].entropy;
   }
