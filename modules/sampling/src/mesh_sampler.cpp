@@ -117,7 +117,7 @@ void MeshSampler::draw(Store&& store) const
   const std::size_t batch = std::min(n_points_, kBatch);
   std::vector<double> draws(3 * batch);
   std::vector<std::uint32_t> order(batch);
-  std::vector<std::uint32_t> bucket_end(kBuckets + 1);
+  std::vector<std::uint32_t> next_in_bucket(kBuckets + 1); // the sort's next place
   for (std::size_t first = 0; first < n_points_; first += kBatch) {
     const std::size_t count = std::min(kBatch, n_points_ - first);
     for (std::size_t k = 0; k < 3 * count; ++k)
@@ -125,13 +125,13 @@ void MeshSampler::draw(Store&& store) const
     const auto bucketOf = [&](std::size_t k) {
       return static_cast<std::size_t>(draws[3 * k] * static_cast<double>(kBuckets));
     };
-    std::fill(bucket_end.begin(), bucket_end.end(), 0u);
+    std::fill(next_in_bucket.begin(), next_in_bucket.end(), 0u);
+    for (std::size_t k = 0; k < count; ++k) // sizes, one slot on
+      ++next_in_bucket[bucketOf(k) + 1];
+    for (std::size_t b = 1; b <= kBuckets; ++b) // each bucket's first place
+      next_in_bucket[b] += next_in_bucket[b - 1];
     for (std::size_t k = 0; k < count; ++k)
-      ++bucket_end[bucketOf(k) + 1];
-    for (std::size_t b = 1; b <= kBuckets; ++b)
-      bucket_end[b] += bucket_end[b - 1];
-    for (std::size_t k = 0; k < count; ++k)
-      order[bucket_end[bucketOf(k)]++] = static_cast<std::uint32_t>(k);
+      order[next_in_bucket[bucketOf(k)]++] = static_cast<std::uint32_t>(k);
 #pragma omp parallel for num_threads(threads) schedule(static) if (threads > 1)
     for (std::ptrdiff_t i = 0; i < static_cast<std::ptrdiff_t>(count); ++i) {
       const std::size_t k = order[static_cast<std::size_t>(i)];
