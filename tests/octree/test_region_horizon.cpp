@@ -286,6 +286,51 @@ TEST(RegionHorizon, AMarchFromABrickCornerHandsOverTheSameVoxelsOfTheRegion)
   EXPECT_GT(corners, 3000);
 }
 
+TEST(RegionHorizon, TheRegionInABoxGivesItsBricksThatMeetTheBox)
+{
+  plantnbv::Rng rng(5);
+  const UpdateRegion region = randomRegion(rng);
+  using Brick = std::tuple<double, double, double, double, double, double>;
+  std::vector<Brick> all;
+  region.forEachBrick([&](const double* lo, const double* hi) {
+    all.emplace_back(lo[0], lo[1], lo[2], hi[0], hi[1], hi[2]);
+  });
+  int partial = 0;
+  for (int trial = 0; trial < 1000; ++trial) {
+    // Boxes inside, across and outside the bounds, thin to wide (rows of many words).
+    double box_lo[3], box_hi[3];
+    for (int a = 0; a < 3; ++a) {
+      const double centre = rng.uniform(-1.6, 1.6), half = rng.uniform(0.0, 0.8);
+      box_lo[a] = centre - half;
+      box_hi[a] = centre + half;
+    }
+    std::set<Brick> got;
+    region.forEachBrick(box_lo, box_hi, [&](const double* lo, const double* hi) {
+      EXPECT_TRUE(got.emplace(lo[0], lo[1], lo[2], hi[0], hi[1], hi[2]).second);
+    });
+    std::size_t meeting = 0;
+    for (const Brick& b : all) {
+      const double lo[3] = {std::get<0>(b), std::get<1>(b), std::get<2>(b)};
+      const double hi[3] = {std::get<3>(b), std::get<4>(b), std::get<5>(b)};
+      bool overlaps = true, touches = true;
+      for (int a = 0; a < 3; ++a) {
+        overlaps = overlaps && lo[a] < box_hi[a] && hi[a] > box_lo[a];
+        touches = touches && lo[a] <= box_hi[a] && hi[a] >= box_lo[a];
+      }
+      if (overlaps) {
+        ++meeting;
+        EXPECT_EQ(got.count(b), 1u) << "trial " << trial;
+      } else if (!touches) {
+        EXPECT_EQ(got.count(b), 0u) << "trial " << trial;
+      }
+    }
+    for (const Brick& b : got) // only the region's bricks
+      EXPECT_EQ(std::count(all.begin(), all.end(), b), 1) << "trial " << trial;
+    partial += meeting > 0 && meeting < all.size();
+  }
+  EXPECT_GT(partial, 100);
+}
+
 TEST(RegionHorizon, TheRegionGivesEachOfItsBricksOnceWithItsBox)
 {
   plantnbv::Rng rng(3);

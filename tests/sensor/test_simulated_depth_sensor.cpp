@@ -640,3 +640,78 @@ TEST(SimulatedDepthSensor, DepthEdgesDropReturns)
   EXPECT_GT(edge, 100u);
   EXPECT_NEAR(double(edge_dropped) / double(edge), 0.5, 0.1);
 }
+
+TEST(SimulatedDepthSensor, ARayMaskCastsOnlyItsPixels)
+{
+  CameraIntrinsics K = CameraIntrinsics::l515(L515Mode::vga_640x480);
+  K.max_range_m = 1.5; // far points too
+  SimulatedDepthSensor sensor(K);
+  sensor.setScene(plantScene());
+  sensor.setNumberOfThreads(2);
+  const Frame full = captureFrame(sensor, kV0);
+
+  // Every pixel in the mask: the frame without one.
+  auto all = std::make_shared<RayMask>(K, opticalFrame(kV0), K.max_range_m);
+  all->addAll();
+  sensor.setRayMask(all);
+  EXPECT_TRUE(sameFrame(captureFrame(sensor, kV0), full));
+
+  // Part of the plant: its pixels as without a mask, the others no return.
+  auto part = std::make_shared<RayMask>(K, opticalFrame(kV0), K.max_range_m);
+  const double lo[3] = {0.9, -0.15, 1.0}, hi[3] = {1.1, 0.15, 1.3};
+  part->addBox(lo, hi);
+  const std::size_t pixels = std::size_t(K.width) * K.height;
+  ASSERT_GT(part->pixelCount(), pixels / 20);
+  ASSERT_LT(part->pixelCount(), pixels / 2);
+  sensor.setRayMask(part);
+  const Frame masked = captureFrame(sensor, kV0);
+  std::size_t returns = 0;
+  for (std::uint32_t v = 0; v < K.height; ++v)
+    for (std::uint32_t u = 0; u < K.width; ++u) {
+      const std::size_t i = std::size_t(v) * K.width + u;
+      const pcl::PointXYZL& p = masked.cloud.points[i];
+      if (part->containsPixel(u, v)) {
+        ASSERT_EQ(std::memcmp(p.data, full.cloud.points[i].data, 3 * sizeof(float)), 0);
+        ASSERT_EQ(p.label, full.cloud.points[i].label);
+        ASSERT_EQ(std::memcmp(&masked.depth.depth_m[i], &full.depth.depth_m[i],
+                              sizeof(float)),
+                  0);
+        returns += std::isfinite(p.x);
+      } else {
+        ASSERT_TRUE(isNaN(p)) << u << ", " << v;
+        ASSERT_TRUE(std::isnan(masked.depth.depth_m[i]));
+      }
+    }
+  EXPECT_GT(returns, 1000u);
+  EXPECT_LT(countReturns(masked.cloud), countReturns(full.cloud));
+  // The far points: those of the masked pixels, in the same (pixel) order.
+  EXPECT_GT(masked.far.size(), 0u);
+  EXPECT_LT(masked.far.size(), full.far.size());
+  std::size_t next = 0;
+  for (const pcl::PointXYZ& q : masked.far) {
+    while (next < full.far.size() &&
+           std::memcmp(full.far[next].data, q.data, 3 * sizeof(float)) != 0)
+      ++next;
+    ASSERT_LT(next, full.far.size()) << "a far point of no pixel of the full frame";
+    ++next;
+  }
+
+  // Back to every pixel.
+  sensor.setRayMask(nullptr);
+  EXPECT_TRUE(sameFrame(captureFrame(sensor, kV0), full));
+}
+
+TEST(SimulatedDepthSensor, ARayMaskOfAnotherImageSizeIsRejected)
+{
+  const CameraIntrinsics vga = CameraIntrinsics::l515(L515Mode::vga_640x480);
+  const CameraIntrinsics xga = CameraIntrinsics::l515(L515Mode::xga_1024x768);
+  SimulatedDepthSensor sensor(vga);
+  sensor.setScene(plantScene());
+  EXPECT_THROW(sensor.setRayMask(std::make_shared<RayMask>(xga, Pose(), 1.0)),
+               InvalidArgumentError);
+  EXPECT_EQ(sensor.getRayMask(), nullptr);
+  sensor.setRayMask(std::make_shared<RayMask>(vga, Pose(), 1.0));
+  sensor.setIntrinsics(xga);
+  CloudXYZL cloud;
+  EXPECT_THROW(sensor.capture(kV0, cloud), InvalidArgumentError);
+}

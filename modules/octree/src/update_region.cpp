@@ -77,15 +77,23 @@ UpdateRegion::UpdateRegion(double resolution_m, const Box& bounds_W)
       stride_ * static_cast<std::size_t>(n_[1]) * static_cast<std::size_t>(n_[2]), 0);
 }
 
-void UpdateRegion::addBounds(const double lo[3], const double hi[3])
+bool UpdateRegion::bricksOverlapping(const double lo[3], const double hi[3], int b_lo[3],
+                                     int b_hi[3]) const
 {
-  int b_lo[3], b_hi[3];
   for (int a = 0; a < 3; ++a) {
     if (hi[a] < bounds_lo_[a] || lo[a] > bounds_hi_[a])
-      return;
+      return false;
     b_lo[a] = std::max(brickOf(lattice_, lo[a]), lo_[a]) - lo_[a];
     b_hi[a] = std::min(brickOf(lattice_, hi[a]), lo_[a] + n_[a] - 1) - lo_[a];
   }
+  return true;
+}
+
+void UpdateRegion::addBounds(const double lo[3], const double hi[3])
+{
+  int b_lo[3], b_hi[3];
+  if (!bricksOverlapping(lo, hi, b_lo, b_hi))
+    return;
   for (int z = b_lo[2]; z <= b_hi[2]; ++z)
     for (int y = b_lo[1]; y <= b_hi[1]; ++y) {
       std::uint64_t* row = &bits_[rowStart(y, z)];

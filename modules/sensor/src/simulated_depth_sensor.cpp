@@ -112,6 +112,16 @@ inline Eigen::Vector3d opticalRay(const CameraIntrinsics& K, double x, double y)
   return Eigen::Vector3d((x - K.cx) / K.fx, (y - K.cy) / K.fy, 1.0).normalized();
 }
 
+/// A ray mask (or none) of the camera's image size. \throws InvalidArgumentError.
+void requireMaskFits(const RayMask* mask, const CameraIntrinsics& K, const char* who)
+{
+  if (mask && (mask->width() != K.width || mask->height() != K.height))
+    throw InvalidArgumentError(std::string("SimulatedDepthSensor::") + who +
+                               ": a ray mask of " + std::to_string(mask->width()) + " x " +
+                               std::to_string(mask->height()) + " pixels for a camera of " +
+                               std::to_string(K.width) + " x " + std::to_string(K.height));
+}
+
 } // namespace
 
 SimulatedDepthSensor::SimulatedDepthSensor()
@@ -147,6 +157,12 @@ void SimulatedDepthSensor::setIntrinsics(const CameraIntrinsics& intrinsics)
   intrinsics_ = intrinsics;
 }
 
+void SimulatedDepthSensor::setRayMask(std::shared_ptr<const RayMask> mask)
+{
+  requireMaskFits(mask.get(), intrinsics_, "setRayMask");
+  ray_mask_ = std::move(mask);
+}
+
 void SimulatedDepthSensor::setNoise(const NoiseConfig& noise)
 {
   noise.validate();
@@ -169,6 +185,9 @@ void SimulatedDepthSensor::capture(const Pose& T_W_C, CloudXYZL& cloud, DepthIma
   const bool noisy = noise_.enabled;
   const bool jitter = noisy && noise_.lateral_sigma_px > 0.0;
   const std::uint64_t frame_seed = deriveSeed(noise_.seed, frame_index_);
+
+  const RayMask* mask = ray_mask_.get();
+  requireMaskFits(mask, K, "capture"); // the intrinsics may have changed since
 
   const Pose T_W_O = opticalFrame(T_W_C);
   const Eigen::Matrix3d R_W_O = T_W_O.orientation.toRotationMatrix();
@@ -273,9 +292,17 @@ void SimulatedDepthSensor::capture(const Pose& T_W_C, CloudXYZL& cloud, DepthIma
         packet.hit.geomID[k] = RTC_INVALID_GEOMETRY_ID;
         packet.hit.instID[0][k] = RTC_INVALID_GEOMETRY_ID;
       }
+      // in_image: the pixel exists; valid: it is cast (in the mask). A pixel not cast
+      // keeps no hit: no return.
       const bool full = tx + 4 <= W && ty + 4 <= H;
-      for (int k = 0; k < 16; ++k)
-        valid[k] = (full || (tx + (k & 3) < W && ty + (k >> 2) < H)) ? -1 : 0;
+      bool in_image[16];
+      bool any = false;
+      for (int k = 0; k < 16; ++k) {
+        const std::uint32_t u = tx + (k & 3), v = ty + (k >> 2);
+        in_image[k] = full || (u < W && v < H);
+        valid[k] = in_image[k] && (!mask || mask->containsPixel(u, v)) ? -1 : 0;
+        any = any || valid[k];
+      }
       if (jitter)
         for (int k = 0; k < 16; ++k) {
           if (!valid[k])
@@ -288,10 +315,11 @@ void SimulatedDepthSensor::capture(const Pose& T_W_C, CloudXYZL& cloud, DepthIma
           packet.ray.dir_z[k] = d_W.z();
           depth_per_range[k] = d_O.z();
         }
-      rtcIntersect16(valid, rtc_scene, &context, &packet);
+      if (any)
+        rtcIntersect16(valid, rtc_scene, &context, &packet);
 
       for (int k = 0; k < 16; ++k) {
-        if (!valid[k])
+        if (!in_image[k])
           continue;
         const std::uint32_t u = tx + (k & 3), v = ty + (k >> 2);
         const std::size_t i = std::size_t(v) * W + u;

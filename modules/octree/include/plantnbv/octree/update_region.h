@@ -96,13 +96,41 @@ public:
   template <typename F>
   void forEachBrick(F&& f) const
   {
+    const int first[3] = {0, 0, 0}, last[3] = {n_[0] - 1, n_[1] - 1, n_[2] - 1};
+    forEachBrickIn(first, last, f);
+  }
+  /// \brief forEachBrick over the bricks that overlap the box [lo_m, hi_m] (metres) only
+  /// (at least those: a brick that touches it may come too).
+  template <typename F>
+  void forEachBrick(const double lo_m[3], const double hi_m[3], F&& f) const
+  {
+    int first[3], last[3];
+    if (bricksOverlapping(lo_m, hi_m, first, last))
+      forEachBrickIn(first, last, f);
+  }
+
+private:
+  /// The bricks of the bounds that overlap [lo, hi] (metres), from the bounds' first
+  /// brick, per axis [b_lo, b_hi]; false: none.
+  bool bricksOverlapping(const double lo[3], const double hi[3], int b_lo[3],
+                         int b_hi[3]) const;
+  /// forEachBrick over the bricks [first, last] (from the bounds' first brick).
+  template <typename F>
+  void forEachBrickIn(const int first[3], const int last[3], F& f) const
+  {
     const int edge = 1 << kBrickShift;
-    for (int z = 0; z < n_[2]; ++z)
-      for (int y = 0; y < n_[1]; ++y) {
+    for (int z = first[2]; z <= last[2]; ++z)
+      for (int y = first[1]; y <= last[1]; ++y) {
         const std::uint64_t* row = &bits_[rowStart(y, z)];
-        for (std::size_t w = 0; w < stride_; ++w)
-          for (std::uint64_t bits = row[w]; bits != 0; bits &= bits - 1) {
-            const int x = static_cast<int>(w * 64) + __builtin_ctzll(bits);
+        for (int w = first[0] >> 6; w <= last[0] >> 6; ++w) {
+          // The words' bits of [first[0], last[0]] only.
+          std::uint64_t bits = row[w];
+          if (w == first[0] >> 6)
+            bits &= ~std::uint64_t{0} << (first[0] & 63);
+          if (w == last[0] >> 6 && (last[0] & 63) != 63)
+            bits &= (std::uint64_t{1} << ((last[0] & 63) + 1)) - 1;
+          for (; bits != 0; bits &= bits - 1) {
+            const int x = w * 64 + __builtin_ctzll(bits);
             const int key[3] = {(lo_[0] + x) * edge, (lo_[1] + y) * edge,
                                 (lo_[2] + z) * edge};
             double lo_m[3], hi_m[3];
@@ -112,10 +140,9 @@ public:
             }
             f(static_cast<const double*>(lo_m), static_cast<const double*>(hi_m));
           }
+        }
       }
   }
-
-private:
   /// Where the row of bricks (y, z) of the bounds (from their first brick) starts in
   /// bits_.
   std::size_t rowStart(int y, int z) const

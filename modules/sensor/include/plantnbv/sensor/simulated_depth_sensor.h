@@ -11,6 +11,7 @@
 #include <plantnbv/camera/camera_intrinsics.h>
 #include <plantnbv/camera/depth_image.h>
 #include <plantnbv/camera/optical_frame.h>
+#include <plantnbv/camera/ray_mask.h>
 #include <plantnbv/common/pcl_fwd.h>
 #include <plantnbv/common/pose.h>
 #include <plantnbv/sensor/noise_model.h>
@@ -97,6 +98,15 @@ public:
   /// \brief OpenMP threads for capture(); 0 = omp_get_max_threads().
   unsigned int getNumberOfThreads() const { return threads_; }
 
+  /// \brief Casts only the pixels of `mask` (null, the default: every pixel); the others
+  /// give no return (a NaN point and depth, no far point), as if their rays met nothing,
+  /// and with noise count as such in their neighbours' edge test. A mask is made for
+  /// one pose: set it for the capture it was made for (Trial does, frame by frame).
+  /// \throws InvalidArgumentError if its image size is not the camera's.
+  void setRayMask(std::shared_ptr<const RayMask> mask);
+  /// \brief The mask of the next capture, or null.
+  const std::shared_ptr<const RayMask>& getRayMask() const { return ray_mask_; }
+
   /// \brief Renders the scene from the camera body pose T_W_C (x forward, y left, z up).
   /// \param[in] T_W_C the camera body frame in the world (a Viewpoint).
   /// \param[out] cloud organized width x height, world frame, NaN where there is no
@@ -105,7 +115,8 @@ public:
   /// \param[out] depth if not null, the depth image of the same pixels.
   /// \param[out] far_points_W if not null, cleared and filled with the far points
   /// (unorganized, in pixel order; see the class comment).
-  /// \throws Error if no scene is set or the scene is no longer committed.
+  /// \throws Error if no scene is set or the scene is no longer committed;
+  /// InvalidArgumentError if the ray mask's image size is not the camera's.
   void capture(const Pose& T_W_C, CloudXYZL& cloud, DepthImage* depth = nullptr,
                CloudXYZ* far_points_W = nullptr);
 
@@ -113,6 +124,7 @@ private:
   struct Buffers;
   SensorScene::ConstPtr scene_;
   CameraIntrinsics intrinsics_;
+  std::shared_ptr<const RayMask> ray_mask_;
   NoiseConfig noise_;
   std::uint64_t frame_index_ = 0;
   unsigned int threads_ = 0;

@@ -1,0 +1,130 @@
+#include <algorithm>
+#include <cmath>
+#include <random>
+
+#include <gtest/gtest.h>
+
+#include <plantnbv/camera/optical_frame.h>
+#include <plantnbv/camera/ray_mask.h>
+#include <plantnbv/common/error.h>
+
+using namespace plantnbv;
+
+namespace {
+
+/// Whether the ray of pixel (u, v), from the optical centre up to range_m, meets the
+/// box [lo, hi] (slabs, in double): what a mask must hold.
+bool rayMeetsBox(const CameraIntrinsics& K, const Pose& T_W_O, double range_m,
+                 std::uint32_t u, std::uint32_t v, const double lo[3], const double hi[3])
+{
+  const Eigen::Vector3d d_O =
+      Eigen::Vector3d((u - K.cx) / K.fx, (v - K.cy) / K.fy, 1.0).normalized();
+  const Eigen::Vector3d d = T_W_O.orientation * d_O;
+  const Eigen::Vector3d& o = T_W_O.position;
+  double t0 = 0.0, t1 = range_m;
+  for (int a = 0; a < 3; ++a) {
+    if (d[a] == 0.0) {
+      if (o[a] < lo[a] || o[a] > hi[a])
+        return false;
+      continue;
+    }
+    double ta = (lo[a] - o[a]) / d[a], tb = (hi[a] - o[a]) / d[a];
+    if (ta > tb)
+      std::swap(ta, tb);
+    t0 = std::max(t0, ta);
+    t1 = std::min(t1, tb);
+  }
+  return t0 <= t1;
+}
+
+CameraIntrinsics smallCamera()
+{
+  CameraIntrinsics K;
+  K.width = 70; // not a multiple of the 4-pixel cells
+  K.height = 45;
+  K.fx = 50.0;
+  K.fy = 48.0;
+  K.cx = 33.7;
+  K.cy = 23.1;
+  return K;
+}
+
+} // namespace
+
+TEST(RayMask, HoldsEveryPixelWhoseRayMeetsABox)
+{
+  const CameraIntrinsics K = smallCamera();
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  int partial = 0, straddling = 0;
+  for (int trial = 0; trial < 2000; ++trial) {
+    const Eigen::Quaterniond q(unit(rng), unit(rng), unit(rng), unit(rng));
+    const Pose T_W_O(Eigen::Vector3d(unit(rng), unit(rng), unit(rng)), q.normalized());
+    const double range = 0.5 + 0.5 * (unit(rng) + 1.0);
+    // Boxes anywhere around the camera, small to large: in front, behind, across the
+    // optical centre's plane, beyond the range.
+    const Eigen::Vector3d centre =
+        T_W_O.position + 0.8 * Eigen::Vector3d(unit(rng), unit(rng), unit(rng));
+    const double half = 0.01 + 0.2 * (unit(rng) + 1.0);
+    const double lo[3] = {centre.x() - half, centre.y() - 0.5 * half, centre.z() - half};
+    const double hi[3] = {centre.x() + half, centre.y() + 0.5 * half, centre.z() + half};
+    RayMask mask(K, T_W_O, range);
+    mask.addBox(lo, hi);
+    std::size_t meeting = 0;
+    for (std::uint32_t v = 0; v < K.height; ++v)
+      for (std::uint32_t u = 0; u < K.width; ++u)
+        if (rayMeetsBox(K, T_W_O, range, u, v, lo, hi)) {
+          ++meeting;
+          ASSERT_TRUE(mask.containsPixel(u, v)) << "trial " << trial << " pixel " << u
+                                                << ", " << v;
+        }
+    const std::size_t total = std::size_t(K.width) * K.height;
+    partial += meeting > 0 && mask.pixelCount() < total;
+    // Corners on both sides of the optical centre's plane.
+    int in_front = 0;
+    for (int c = 0; c < 8; ++c) {
+      const Eigen::Vector3d p(c & 1 ? hi[0] : lo[0], c & 2 ? hi[1] : lo[1],
+                              c & 4 ? hi[2] : lo[2]);
+      in_front += (T_W_O.orientation.inverse() * (p - T_W_O.position)).z() > 0.0;
+    }
+    straddling += meeting > 0 && in_front > 0 && in_front < 8 && mask.pixelCount() < total;
+  }
+  // The cases that matter occurred: masks that hold the rays met and not every pixel,
+  // also for boxes reaching behind the camera.
+  EXPECT_GT(partial, 200) << partial;
+  EXPECT_GT(straddling, 20) << straddling;
+}
+
+TEST(RayMask, MarksNothingBeyondTheRangeOrBehindAndAllAroundTheCentre)
+{
+  const CameraIntrinsics K = smallCamera();
+  const Pose T_W_O; // looking along +z
+  RayMask mask(K, T_W_O, 1.0);
+  const double beyond_lo[3] = {-0.1, -0.1, 1.01}, beyond_hi[3] = {0.1, 0.1, 1.2};
+  mask.addBox(beyond_lo, beyond_hi);
+  const double behind_lo[3] = {-0.5, -0.5, -0.6}, behind_hi[3] = {0.5, 0.5, -0.01};
+  mask.addBox(behind_lo, behind_hi);
+  EXPECT_EQ(mask.pixelCount(), 0u);
+
+  // A box straight ahead, within range: the pixels around the principal point only.
+  const double ahead_lo[3] = {-0.01, -0.01, 0.5}, ahead_hi[3] = {0.01, 0.01, 0.6};
+  mask.addBox(ahead_lo, ahead_hi);
+  EXPECT_TRUE(mask.containsPixel(34, 23));
+  EXPECT_FALSE(mask.containsPixel(0, 0));
+  EXPECT_GT(mask.pixelCount(), 0u);
+  EXPECT_LT(mask.pixelCount(), 200u);
+
+  const double around_lo[3] = {-0.01, -0.01, -0.01}, around_hi[3] = {0.01, 0.01, 0.01};
+  mask.addBox(around_lo, around_hi);
+  EXPECT_EQ(mask.pixelCount(), std::size_t(K.width) * K.height);
+}
+
+TEST(RayMask, RejectsABadRangeOrCamera)
+{
+  const CameraIntrinsics K = smallCamera();
+  for (double range : {0.0, -1.0, std::nan(""), HUGE_VAL})
+    EXPECT_THROW(RayMask(K, Pose(), range), InvalidArgumentError) << range;
+  CameraIntrinsics bad = K;
+  bad.fx = 0.0;
+  EXPECT_THROW(RayMask(bad, Pose(), 1.0), InvalidArgumentError);
+}
