@@ -95,7 +95,7 @@ TEST(RayMask, HoldsEveryPixelWhoseRayMeetsABox)
   EXPECT_GT(straddling, 20) << straddling;
 }
 
-TEST(RayMask, MarksNothingBeyondTheRangeOrBehindAndAllAroundTheCentre)
+TEST(RayMask, MarksNothingBeyondTheRangeOrBehindAndAllAroundTheCentreOrForAnEndlessBox)
 {
   const CameraIntrinsics K = smallCamera();
   const Pose T_W_O; // looking along +z
@@ -113,6 +113,21 @@ TEST(RayMask, MarksNothingBeyondTheRangeOrBehindAndAllAroundTheCentre)
   EXPECT_FALSE(mask.containsPixel(0, 0));
   EXPECT_GT(mask.pixelCount(), 0u);
   EXPECT_LT(mask.pixelCount(), 200u);
+
+  EXPECT_FALSE(mask.containsPixel(K.width, 0)); // outside the image
+  EXPECT_FALSE(mask.containsPixel(0, 100000));
+
+  // A NaN bound: no box; an endless slab ahead: every pixel (its corners do not
+  // project).
+  const double nan = std::nan("");
+  const double nan_lo[3] = {nan, -0.1, 0.5}, nan_hi[3] = {0.1, 0.1, 0.6};
+  const std::size_t before = mask.pixelCount();
+  mask.addBox(nan_lo, nan_hi);
+  EXPECT_EQ(mask.pixelCount(), before);
+  RayMask slab(K, T_W_O, 1.0);
+  const double slab_lo[3] = {-HUGE_VAL, -HUGE_VAL, 0.5}, slab_hi[3] = {HUGE_VAL, HUGE_VAL, 0.6};
+  slab.addBox(slab_lo, slab_hi);
+  EXPECT_EQ(slab.pixelCount(), std::size_t(K.width) * K.height);
 
   const double around_lo[3] = {-0.01, -0.01, -0.01}, around_hi[3] = {0.01, 0.01, 0.01};
   mask.addBox(around_lo, around_hi);

@@ -50,7 +50,10 @@ void RayMask::addBox(const double lo_W[3], const double hi_W[3])
   const double reach = range_m_ * (1.0 + 1e-9);
   if (!(distance2 <= reach * reach))
     return;
-  if (distance2 == 0.0) { // it holds the optical centre: every ray starts in it
+  bool finite = true;
+  for (int a = 0; a < 3; ++a)
+    finite = finite && std::isfinite(lo_W[a]) && std::isfinite(hi_W[a]);
+  if (distance2 == 0.0 || !finite) { // every ray starts in it; or no corners to project
     addAll();
     return;
   }

@@ -39,16 +39,18 @@ public:
   /// \brief Adds at least every pixel whose ray meets the box [lo_W, hi_W] (metres,
   /// world frame): the cells that the box's projection, its bounding rectangle grown by
   /// a pixel for rounding, overlaps; of a box that reaches behind the camera, its part
-  /// in front. Nothing when the box lies farther than the range or behind the camera;
-  /// every pixel when it holds the optical centre.
+  /// in front. Nothing when the box lies farther than the range or behind the camera (or
+  /// has a NaN bound); every pixel when it holds the optical centre or, within range,
+  /// reaches infinity.
   void addBox(const double lo_W[3], const double hi_W[3]);
   /// \brief Adds every pixel.
   void addAll();
 
-  /// \brief Whether pixel (u, v) (column < width, row < height) is in the mask.
+  /// \brief Whether pixel (u, v) (column, row) is in the mask; false outside the image.
   bool containsPixel(std::uint32_t u, std::uint32_t v) const
   {
-    return cells_[static_cast<std::size_t>(v / kCellPixels) * cells_x_ +
+    return u < width_ && v < height_ &&
+           cells_[static_cast<std::size_t>(v / kCellPixels) * cells_x_ +
                   u / kCellPixels] != 0;
   }
   /// \brief The pixels in the mask.
