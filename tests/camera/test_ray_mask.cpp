@@ -134,6 +134,19 @@ TEST(RayMask, MarksNothingBeyondTheRangeOrBehindAndAllAroundTheCentreOrForAnEndl
   EXPECT_EQ(mask.pixelCount(), std::size_t(K.width) * K.height);
 }
 
+TEST(RayMask, ABoxWithinTheFloatRoundingOfTheCentreMarksEveryPixel)
+{
+  // At x = 1000 m a float's spacing is 6.1e-5 m: a sensor's rays start up to 3e-5 m
+  // from the centre, so inside a box 1e-5 m beside it.
+  const CameraIntrinsics K = smallCamera();
+  const Pose T_W_O(Eigen::Vector3d(1000.1, 0.2, 0.3), Eigen::Quaterniond::Identity());
+  ASSERT_GT(std::abs(double(float(1000.1)) - 1000.1), 1e-5);
+  RayMask mask(K, T_W_O, 1.0);
+  const double lo[3] = {1000.1 + 1e-5, -0.3, -0.2}, hi[3] = {1000.2, 0.7, 0.8};
+  mask.addBox(lo, hi);
+  EXPECT_EQ(mask.pixelCount(), std::size_t(K.width) * K.height);
+}
+
 TEST(RayMask, RejectsABadRangeOrCamera)
 {
   const CameraIntrinsics K = smallCamera();

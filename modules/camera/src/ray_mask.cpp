@@ -23,6 +23,8 @@ RayMask::RayMask(const CameraIntrinsics& K, const Pose& T_W_O, double range_m)
   cy_ = K.cy;
   range_m_ = range_m;
   origin_W_ = T_W_O.position;
+  // Float keeps 24 bits: its rounding is under 1e-7 of the largest coordinate.
+  origin_slack_m_ = 1e-6 * std::max(1.0, origin_W_.cwiseAbs().maxCoeff());
   R_O_W_ = T_W_O.orientation.normalized().toRotationMatrix().transpose();
   // The ray of the pixel farthest from the principal point has the smallest z.
   const double x = std::max(std::abs(K.cx), std::abs(width_ - 1.0 - K.cx)) / K.fx;
@@ -40,11 +42,19 @@ void RayMask::addAll()
 
 void RayMask::addBox(const double lo_W[3], const double hi_W[3])
 {
+  // The box grown by the rounding of a ray's origin in float (a sensor's rays start at
+  // the centre rounded so; a ray from there meets the box where one from the centre
+  // meets it grown by that much).
+  double lo[3], hi[3];
+  for (int a = 0; a < 3; ++a) {
+    lo[a] = lo_W[a] - origin_slack_m_;
+    hi[a] = hi_W[a] + origin_slack_m_;
+  }
   // Farther than the range: no ray reaches it. (A ray's far end may lie a rounding
   // beyond the range: the test keeps a relative 1e-9 of slack.)
   double distance2 = 0.0;
   for (int a = 0; a < 3; ++a) {
-    const double d = std::max({lo_W[a] - origin_W_[a], 0.0, origin_W_[a] - hi_W[a]});
+    const double d = std::max({lo[a] - origin_W_[a], 0.0, origin_W_[a] - hi[a]});
     distance2 += d * d;
   }
   const double reach = range_m_ * (1.0 + 1e-9);
@@ -52,7 +62,7 @@ void RayMask::addBox(const double lo_W[3], const double hi_W[3])
     return;
   bool finite = true;
   for (int a = 0; a < 3; ++a)
-    finite = finite && std::isfinite(lo_W[a]) && std::isfinite(hi_W[a]);
+    finite = finite && std::isfinite(lo[a]) && std::isfinite(hi[a]);
   if (distance2 == 0.0 || !finite) { // every ray starts in it; or no corners to project
     addAll();
     return;
@@ -66,9 +76,8 @@ void RayMask::addBox(const double lo_W[3], const double hi_W[3])
   Eigen::Vector3d corners[8];
   for (int corner = 0; corner < 8; ++corner)
     corners[corner] =
-        R_O_W_ * (Eigen::Vector3d(corner & 1 ? hi_W[0] : lo_W[0],
-                                  corner & 2 ? hi_W[1] : lo_W[1],
-                                  corner & 4 ? hi_W[2] : lo_W[2]) -
+        R_O_W_ * (Eigen::Vector3d(corner & 1 ? hi[0] : lo[0], corner & 2 ? hi[1] : lo[1],
+                                  corner & 4 ? hi[2] : lo[2]) -
                   origin_W_);
   double u_lo = INFINITY, u_hi = -INFINITY, v_lo = INFINITY, v_hi = -INFINITY;
   const auto project = [&](const Eigen::Vector3d& p_O) {

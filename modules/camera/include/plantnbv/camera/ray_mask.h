@@ -37,8 +37,10 @@ public:
   RayMask(const CameraIntrinsics& K, const Pose& T_W_O, double range_m);
 
   /// \brief Adds at least every pixel whose ray meets the box [lo_W, hi_W] (metres,
-  /// world frame): the cells that the box's projection, its bounding rectangle grown by
-  /// a pixel for rounding, overlaps; of a box that reaches behind the camera, its part
+  /// world frame): the cells that the projection of the box (grown by a millionth of
+  /// the optical centre's largest coordinate, at least 1 um, for rays that start at the
+  /// centre rounded to float), its bounding rectangle grown by a pixel for the rays'
+  /// directions' rounding, overlaps; of a box that reaches behind the camera, its part
   /// in front. Nothing when the box lies farther than the range or behind the camera (or
   /// has a NaN bound); every pixel when it holds the optical centre or, within range,
   /// reaches infinity.
@@ -68,6 +70,7 @@ private:
   double range_m_;
   double min_ray_z_; ///< the least z of a pixel ray's unit direction (optical frame)
   Eigen::Vector3d origin_W_;
+  double origin_slack_m_; ///< boxes grown by it: the float rounding of rays' origins
   Eigen::Matrix3d R_O_W_; ///< world to optical frame
   std::size_t cells_x_, cells_y_;
   std::vector<std::uint8_t> cells_; ///< 1 where the cell is in the mask, rows of cells
