@@ -1,7 +1,9 @@
 /// \file bench_sensor.cpp
 /// \brief Rendering a depth frame of a plant, ours (Embree 3 packets,
 /// SimulatedDepthSensor) side by side with what users of PCL / VTK would write instead:
-/// one vtkCellLocator::IntersectWithLine per pixel; and the cost of building the BVH.
+/// one vtkCellLocator::IntersectWithLine per pixel; the cost of building the BVH; and a
+/// trial's ten frames with every pixel cast or only those whose rays can reach the map's
+/// update region (BM_EmbreeCaptureInRegion, as a campaign trial casts them).
 ///
 /// Data: the oldest default tomato plant (defaultPlantConfig(9)) at mesh_detail 1.1,
 /// about 300k triangles, posed at the paper's (1.0, 0, 0.8), seen from the paper's v0
@@ -23,7 +25,12 @@
 #include <pcl/point_cloud.h>
 #include <pcl/point_types.h>
 
+#include <plantnbv/camera/optical_frame.h>
+#include <plantnbv/camera/ray_mask.h>
 #include <plantnbv/experiment/plant_scene.h>
+#include <plantnbv/experiment/region_ray_mask.h>
+#include <plantnbv/octree/update_region.h>
+#include <plantnbv/planning/cylindrical_sector_sampler.h>
 #include <plantnbv/plant/tomato_plant_generator.h>
 #include <plantnbv/sensor/simulated_depth_sensor.h>
 
@@ -46,6 +53,8 @@ namespace {
 using namespace plantnbv;
 
 const Pose kV0 = Pose::fromXyzQuat(0.646, 0.353, 1.383, 0.0, 0.0, -0.383, 0.924);
+constexpr double kResolutionM = 0.003; ///< the paper's map (Table 1)
+constexpr double kMapRangeM = 0.75;
 
 const Plant& benchPlant()
 {
@@ -104,6 +113,82 @@ void BM_EmbreeCapture(benchmark::State& state)
   state.counters["threads"] = threads;
   state.counters["hits"] = double(returns(cloud)) / double(cloud.size());
   state.counters["triangles"] = double(benchScene(background)->triangleCount());
+}
+
+/// The views of a trial on the bench plant: v0 and the centres of the paper's sector's
+/// 3 x 3 grid cells.
+std::vector<Pose> trialViews()
+{
+  std::vector<Pose> views = CylindricalSectorSampler().gridCellCentres();
+  views.insert(views.begin(), kV0);
+  return views;
+}
+
+/// The region a campaign trial of the bench plant updates, less its ROI boxes: the
+/// bricks around every triangle of the scene at the paper's 3 mm, over the views' reach
+/// (Trial's surface region).
+const UpdateRegion& trialRegion(bool background)
+{
+  static std::unique_ptr<UpdateRegion> regions[2];
+  std::unique_ptr<UpdateRegion>& region = regions[background ? 1 : 0];
+  if (!region) {
+    Eigen::Vector3d lo = Eigen::Vector3d::Constant(HUGE_VAL), hi = -lo;
+    for (const Pose& view : trialViews()) {
+      lo = lo.cwiseMin(view.position);
+      hi = hi.cwiseMax(view.position);
+    }
+    const double reach = kMapRangeM + kResolutionM;
+    region = std::make_unique<UpdateRegion>(
+        kResolutionM, Box::fromMinMax(lo.array() - reach, hi.array() + reach));
+    region->addMesh(benchPlant().mesh, kResolutionM);
+    if (background) {
+      PlantSceneConfig config;
+      for (const TriangleMesh& mesh : plantSceneBackground(benchPlant(), config))
+        region->addMesh(mesh, kResolutionM);
+    }
+  }
+  return *region;
+}
+
+/// Args: mask (0 or 1), threads, background. The ten views of a trial at 640 x 480, each
+/// casting every pixel (mask 0) or only those whose rays may reach the trial's region
+/// within the map's range (mask 1: the region's RayMask made for each view, its time
+/// included, as Trial does). Time: the ten frames; counters: mask = fraction of the
+/// pixels cast, hits = fraction with a return.
+void BM_EmbreeCaptureInRegion(benchmark::State& state)
+{
+  const bool masked = state.range(0) != 0;
+  const unsigned int threads = unsigned(state.range(1));
+  const bool background = state.range(2) != 0;
+  const CameraIntrinsics K = camera(640);
+  SimulatedDepthSensor sensor(K);
+  sensor.setScene(benchScene(background));
+  sensor.setNumberOfThreads(threads);
+  const std::vector<Pose> views = trialViews();
+  const UpdateRegion& region = trialRegion(background);
+  CloudXYZL cloud;
+  sensor.capture(kV0, cloud); // warm-up: buffers allocated
+  std::size_t cast = 0, hits = 0;
+  for (auto _ : state) {
+    cast = hits = 0;
+    for (const Pose& view : views) {
+      if (masked) {
+        auto mask = std::make_shared<const RayMask>(
+            regionRayMask(region, K, opticalFrame(view), kMapRangeM));
+        cast += mask->pixelCount();
+        sensor.setRayMask(std::move(mask));
+      } else {
+        cast += cloud.size();
+      }
+      sensor.capture(view, cloud);
+      hits += returns(cloud);
+      benchmark::DoNotOptimize(cloud.points.data());
+    }
+  }
+  const double pixels = double(views.size()) * double(K.width) * double(K.height);
+  state.counters["threads"] = threads;
+  state.counters["mask"] = double(cast) / pixels;
+  state.counters["hits"] = double(hits) / pixels;
 }
 
 /// Args: threads. Copy of the mesh into Embree and BVH build (medium quality, robust).
@@ -242,6 +327,13 @@ BENCHMARK(BM_VtkCellLocator)
 BENCHMARK(BM_EmbreeCapture)
     ->ArgsProduct({{640, 1024}, {1, 2}, {0, 1}})
     ->ArgNames({"width", "threads", "background"})
+    ->UseRealTime()
+    ->Unit(benchmark::kMillisecond);
+
+// The mask varies first: the two rows of a pair run one after the other.
+BENCHMARK(BM_EmbreeCaptureInRegion)
+    ->ArgsProduct({{0, 1}, {1, 2}, {0, 1}})
+    ->ArgNames({"mask", "threads", "background"})
     ->UseRealTime()
     ->Unit(benchmark::kMillisecond);
 

@@ -8,52 +8,16 @@
 #include <plantnbv/camera/ray_mask.h>
 #include <plantnbv/common/error.h>
 
+#include "pixel_ray.h"
+
 using namespace plantnbv;
 
-namespace {
-
-/// Whether the ray of pixel (u, v), from the optical centre up to range_m, meets the
-/// box [lo, hi] (slabs, in double): what a mask must hold.
-bool rayMeetsBox(const CameraIntrinsics& K, const Pose& T_W_O, double range_m,
-                 std::uint32_t u, std::uint32_t v, const double lo[3], const double hi[3])
-{
-  const Eigen::Vector3d d_O =
-      Eigen::Vector3d((u - K.cx) / K.fx, (v - K.cy) / K.fy, 1.0).normalized();
-  const Eigen::Vector3d d = T_W_O.orientation * d_O;
-  const Eigen::Vector3d& o = T_W_O.position;
-  double t0 = 0.0, t1 = range_m;
-  for (int a = 0; a < 3; ++a) {
-    if (d[a] == 0.0) {
-      if (o[a] < lo[a] || o[a] > hi[a])
-        return false;
-      continue;
-    }
-    double ta = (lo[a] - o[a]) / d[a], tb = (hi[a] - o[a]) / d[a];
-    if (ta > tb)
-      std::swap(ta, tb);
-    t0 = std::max(t0, ta);
-    t1 = std::min(t1, tb);
-  }
-  return t0 <= t1;
-}
-
-CameraIntrinsics smallCamera()
-{
-  CameraIntrinsics K;
-  K.width = 70; // not a multiple of the 4-pixel cells
-  K.height = 45;
-  K.fx = 50.0;
-  K.fy = 48.0;
-  K.cx = 33.7;
-  K.cy = 23.1;
-  return K;
-}
-
-} // namespace
+using test::oddSizedCamera;
+using test::pixelRayMeetsBox;
 
 TEST(RayMask, HoldsEveryPixelWhoseRayMeetsABox)
 {
-  const CameraIntrinsics K = smallCamera();
+  const CameraIntrinsics K = oddSizedCamera();
   std::mt19937_64 rng(7);
   std::uniform_real_distribution<double> unit(-1.0, 1.0);
   int partial = 0, straddling = 0;
@@ -73,10 +37,10 @@ TEST(RayMask, HoldsEveryPixelWhoseRayMeetsABox)
     std::size_t meeting = 0;
     for (std::uint32_t v = 0; v < K.height; ++v)
       for (std::uint32_t u = 0; u < K.width; ++u)
-        if (rayMeetsBox(K, T_W_O, range, u, v, lo, hi)) {
+        if (pixelRayMeetsBox(K, T_W_O, range, u, v, lo, hi)) {
           ++meeting;
-          ASSERT_TRUE(mask.containsPixel(u, v)) << "trial " << trial << " pixel " << u
-                                                << ", " << v;
+          ASSERT_TRUE(mask.containsPixel(u, v))
+              << "trial " << trial << " pixel " << u << ", " << v;
         }
     const std::size_t total = std::size_t(K.width) * K.height;
     partial += meeting > 0 && mask.pixelCount() < total;
@@ -87,7 +51,8 @@ TEST(RayMask, HoldsEveryPixelWhoseRayMeetsABox)
                               c & 4 ? hi[2] : lo[2]);
       in_front += (T_W_O.orientation.inverse() * (p - T_W_O.position)).z() > 0.0;
     }
-    straddling += meeting > 0 && in_front > 0 && in_front < 8 && mask.pixelCount() < total;
+    straddling +=
+        meeting > 0 && in_front > 0 && in_front < 8 && mask.pixelCount() < total;
   }
   // The cases that matter occurred: masks that hold the rays met and not every pixel,
   // also for boxes reaching behind the camera.
@@ -97,7 +62,7 @@ TEST(RayMask, HoldsEveryPixelWhoseRayMeetsABox)
 
 TEST(RayMask, MarksNothingBeyondTheRangeOrBehindAndAllAroundTheCentreOrForAnEndlessBox)
 {
-  const CameraIntrinsics K = smallCamera();
+  const CameraIntrinsics K = oddSizedCamera();
   const Pose T_W_O; // looking along +z
   RayMask mask(K, T_W_O, 1.0);
   const double beyond_lo[3] = {-0.1, -0.1, 1.01}, beyond_hi[3] = {0.1, 0.1, 1.2};
@@ -125,7 +90,8 @@ TEST(RayMask, MarksNothingBeyondTheRangeOrBehindAndAllAroundTheCentreOrForAnEndl
   mask.addBox(nan_lo, nan_hi);
   EXPECT_EQ(mask.pixelCount(), before);
   RayMask slab(K, T_W_O, 1.0);
-  const double slab_lo[3] = {-HUGE_VAL, -HUGE_VAL, 0.5}, slab_hi[3] = {HUGE_VAL, HUGE_VAL, 0.6};
+  const double slab_lo[3] = {-HUGE_VAL, -HUGE_VAL, 0.5},
+               slab_hi[3] = {HUGE_VAL, HUGE_VAL, 0.6};
   slab.addBox(slab_lo, slab_hi);
   EXPECT_EQ(slab.pixelCount(), std::size_t(K.width) * K.height);
 
@@ -138,7 +104,7 @@ TEST(RayMask, ABoxWithinTheFloatRoundingOfTheCentreMarksEveryPixel)
 {
   // At x = 1000 m a float's spacing is 6.1e-5 m: a sensor's rays start up to 3e-5 m
   // from the centre, so inside a box 1e-5 m beside it.
-  const CameraIntrinsics K = smallCamera();
+  const CameraIntrinsics K = oddSizedCamera();
   const Pose T_W_O(Eigen::Vector3d(1000.1, 0.2, 0.3), Eigen::Quaterniond::Identity());
   ASSERT_GT(std::abs(double(float(1000.1)) - 1000.1), 1e-5);
   RayMask mask(K, T_W_O, 1.0);
@@ -149,7 +115,7 @@ TEST(RayMask, ABoxWithinTheFloatRoundingOfTheCentreMarksEveryPixel)
 
 TEST(RayMask, RejectsABadRangeOrCamera)
 {
-  const CameraIntrinsics K = smallCamera();
+  const CameraIntrinsics K = oddSizedCamera();
   for (double range : {0.0, -1.0, std::nan(""), HUGE_VAL})
     EXPECT_THROW(RayMask(K, Pose(), range), InvalidArgumentError) << range;
   CameraIntrinsics bad = K;

@@ -7,11 +7,11 @@
 #include <pcl/point_cloud.h>
 #include <pcl/point_types.h>
 
-#include <plantnbv/camera/ray_mask.h>
 #include <plantnbv/common/error.h>
 #include <plantnbv/common/random.h>
 #include <plantnbv/common/stopwatch.h>
 #include <plantnbv/experiment/plant_scene.h>
+#include <plantnbv/experiment/region_ray_mask.h>
 #include <plantnbv/experiment/trial.h>
 #include <plantnbv/planning/view_planner.h>
 #include <plantnbv/sensor/simulated_depth_sensor.h>
@@ -85,32 +85,6 @@ ViewPlanner::Ptr makePlanner(const TrialConfig& c, const Roi& exploration)
     return std::make_shared<RandomPlanner>();
   }
   throw InvalidArgumentError("unknown planner kind");
-}
-
-/// The pixels whose rays, from T_W_O up to `range_m`, may meet `region`: one of its
-/// bricks, or the space outside its bounds (all of it in the region). The other pixels'
-/// rays change only voxels outside the region, which nothing reads, and end on no
-/// surface within range (every surface within the bounds lies in the region).
-std::shared_ptr<const RayMask> regionRayMask(const UpdateRegion& region,
-                                             const CameraIntrinsics& K,
-                                             const Pose& T_W_O, double range_m)
-{
-  auto mask = std::make_shared<RayMask>(K, T_W_O, range_m);
-  double bounds_lo[3], bounds_hi[3], lo[3], hi[3];
-  region.getBounds(bounds_lo, bounds_hi);
-  bool inside = true;
-  for (int a = 0; a < 3; ++a) {
-    lo[a] = T_W_O.position[a] - range_m;
-    hi[a] = T_W_O.position[a] + range_m;
-    inside = inside && lo[a] >= bounds_lo[a] && hi[a] <= bounds_hi[a];
-  }
-  if (!inside)
-    mask->addAll();
-  else
-    region.forEachBrick(lo, hi, [&](const double* brick_lo, const double* brick_hi) {
-      mask->addBox(brick_lo, brick_hi);
-    });
-  return mask;
 }
 
 } // namespace
@@ -455,8 +429,8 @@ bool Trial::runOnce(TrialResult& result, bool with_region)
       // Only the rays that can reach the region, where nothing but the map reads the
       // frame.
       if (map_->getUpdateRegion() && !frame_callback_ && !detecting)
-        sensor.setRayMask(regionRayMask(*map_->getUpdateRegion(), c.camera, T_W_O,
-                                        c.map.max_range_m));
+        sensor.setRayMask(std::make_shared<const RayMask>(regionRayMask(
+            *map_->getUpdateRegion(), c.camera, T_W_O, c.map.max_range_m)));
       sensor.setFrameIndex(static_cast<std::uint64_t>(index));
       sensor.capture(view, frame,
                      rounded_depth || frame_callback_ || detecting ? &depth : nullptr);

@@ -20,7 +20,8 @@ namespace plantnbv {
 /// box, an unmarked one's meets none.
 ///
 /// A trial marks the bricks of its map's update region: a pixel outside the mask would
-/// only change voxels that nothing reads, so the sensor need not cast it (Trial).
+/// only change voxels that nothing reads, so the sensor need not cast it (Trial, with
+/// regionRayMask).
 ///
 /// \code
 /// RayMask mask(K, T_W_O, 0.75);
