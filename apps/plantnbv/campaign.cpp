@@ -4,7 +4,8 @@
 //   campaign run-chunk FILE -o DIR --chunk I --chunks N   one chunk (array jobs)
 //   campaign run-chunk FILE -o DIR --task-file F --task I  one task of `submit`
 //   campaign submit FILE -o DIR [...]   the missing trials as a Slurm job array
-//   campaign status DIR [-j N]          count done, failed and missing trials; the ETA
+//   campaign status DIR [-j N] [--timing]  count done, failed and missing trials; the
+//                                       ETA; where the done trials' time goes
 //   campaign report DIR [-o OUT]        curves.csv, summary.md and PNG figures
 
 #include <algorithm>
@@ -28,6 +29,7 @@
 
 #include <plantnbv/common/error.h>
 #include <plantnbv/experiment/campaign.h>
+#include <plantnbv/experiment/campaign_report.h>
 #include <plantnbv/experiment/campaign_runner.h>
 #include <plantnbv/experiment/result_store.h>
 #include <plantnbv/experiment/trial.h>
@@ -221,7 +223,31 @@ std::string statusEtaText(const StoreStatus& s, int workers)
   return text.str();
 }
 
-void statusCampaign(const std::string& dir, int workers)
+/// The done trials' mean times per study variant's planner, as a Markdown table.
+void printTiming(const std::vector<TimingRow>& rows, std::ostream& out)
+{
+  std::size_t timed = 0;
+  for (const TimingRow& r : rows)
+    timed += r.trials;
+  if (timed == 0) {
+    out << "no done trial gives its times yet\n";
+    return;
+  }
+  out << "where the time goes (" << timed << " done trial" << (timed == 1 ? "" : "s")
+      << "; mean ms a trial, each on one worker):\n"
+      << "| study | variant | planner | trials | setup | plan | capture | insert | "
+         "evaluate | total | share |\n"
+      << "|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|\n"
+      << std::fixed;
+  for (const TimingRow& r : rows)
+    out << "| " << r.study << " | " << r.variant << " | " << r.planner << " | "
+        << r.trials << std::setprecision(0) << " | " << r.mean.setup_ms << " | "
+        << r.mean.plan_ms << " | " << r.mean.capture_ms << " | " << r.mean.insert_ms
+        << " | " << r.mean.eval_ms << " | " << r.mean.total_ms << " | "
+        << std::setprecision(1) << 100.0 * r.share << " % |\n";
+}
+
+void statusCampaign(const std::string& dir, int workers, bool timing)
 {
   scenario::CampaignFile f;
   const StoreStatus s = scenario::campaignDirectoryStatus(dir, &f);
@@ -236,6 +262,9 @@ void statusCampaign(const std::string& dir, int workers)
   if (shown < s.failed_ids.size())
     std::cout << "... and " << s.failed_ids.size() - shown << " more failed\n";
   printSlurmSubmissions(dir, std::cout);
+  if (timing)
+    printTiming(campaignTiming(ResultStore(dir).loadDone(expandCampaign(f.definition))),
+                std::cout);
 }
 
 void reportCampaign(const std::string& dir, std::string out, bool figures)
@@ -316,7 +345,13 @@ void addCampaignCommand(CLI::App& app)
   s->add_option("-j,--jobs", *status_jobs,
                 "Trials at a time the ETA assumes (default: all cores, as `run`)")
       ->check(workerCount("trials at a time"));
-  s->callback([status_dir, status_jobs]() { statusCampaign(*status_dir, *status_jobs); });
+  auto status_timing = std::make_shared<bool>(false);
+  s->add_flag("--timing", *status_timing,
+              "Also the done trials' mean times (setup, plan, capture, insert, evaluate, "
+              "total) per study variant's planner");
+  s->callback([status_dir, status_jobs, status_timing]() {
+    statusCampaign(*status_dir, *status_jobs, *status_timing);
+  });
 
   auto report_dir = std::make_shared<std::string>();
   auto report_out = std::make_shared<std::string>();

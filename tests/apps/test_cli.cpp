@@ -7,6 +7,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <iomanip>
 #include <limits>
 #include <map>
 #include <random>
@@ -909,6 +910,40 @@ TEST_F(CliTest, CampaignStatusGivesTheEtaFromTheDoneTrialsTimes)
       status.out, std::regex("6 missing, ETA [0-9]+:[0-9]{2} at [0-9]+ trials? at a "
                              "time \\(a trial took [0-9]+\\.[0-9] s on average\\)\n")))
       << status.out;
+
+  // --timing: each planner's mean times over its done trials, from their files.
+  std::map<std::string, std::vector<double>> sums; // planner: trials, setup .. total
+  for (const auto& [name, j] : trialFiles(dir_ / "c")) {
+    std::vector<double>& sum = sums[j["spec"]["planner"].get<std::string>()];
+    sum.resize(7, 0.0);
+    sum[0] += 1.0;
+    sum[1] += j["setup_ms"].get<double>();
+    for (const auto& view : j["views"]) {
+      sum[2] += view["plan_ms"].get<double>();
+      sum[3] += view["capture_ms"].get<double>();
+      sum[4] += view["insert_ms"].get<double>();
+      sum[5] += view["eval_ms"].get<double>();
+    }
+    sum[6] += j["total_ms"].get<double>();
+  }
+  ASSERT_EQ(sums.size(), 3u);
+  const ToolRun timing = run("campaign status " + path("c") + " --timing");
+  ASSERT_EQ(timing.code, 0) << timing.err;
+  EXPECT_NE(
+      timing.out.find("where the time goes (6 done trials; mean ms a trial, each on "
+                      "one worker):\n| study | variant | planner | trials | setup | "
+                      "plan | capture | insert | evaluate | total | share |\n"),
+      std::string::npos)
+      << timing.out;
+  for (const auto& [planner, sum] : sums) {
+    std::ostringstream row;
+    row << std::fixed << std::setprecision(0) << "| main |  | " << planner << " | "
+        << sum[0];
+    for (int k = 1; k < 7; ++k)
+      row << " | " << sum[k] / sum[0];
+    EXPECT_NE(timing.out.find(row.str() + " | "), std::string::npos) << row.str() << "\n"
+                                                                     << timing.out;
+  }
 }
 
 TEST_F(CliTest, CampaignTrialThatThrowsIsRecordedAndTheOthersFinish)

@@ -395,6 +395,88 @@ void writeTrial(const fs::path& dir, const std::string& planner, int pattern,
 
 } // namespace
 
+TEST_F(CampaignResultsTest, TimingGivesEachPlannersMeanTimesAndShareOfItsDoneTrials)
+{
+  const std::vector<TrialSpec> specs = expandCampaign(smallCampaign());
+  ASSERT_EQ(specs.size(), 12u);
+  const ResultStore store(dir_);
+  store.create("name: small\n", "f1");
+  // Trial i: setup i, each of its 3 views plan 1, capture 2, insert 10 + i, eval 4,
+  // total 100 + i.
+  auto timed = [](std::size_t i) {
+    TrialResult r;
+    r.level_names = {"whole_plant"};
+    for (int v = 0; v < 3; ++v) {
+      TrialStep s;
+      s.index = v;
+      s.plan_ms = 1.0;
+      s.capture_ms = 2.0;
+      s.insert_ms = 10.0 + double(i);
+      s.eval_ms = 4.0;
+      LevelScore score;
+      score.f1 = score.precision = score.recall = 0.5;
+      s.scores = {score};
+      r.steps.push_back(s);
+    }
+    r.setup_ms = double(i);
+    r.total_ms = 100.0 + double(i);
+    return r;
+  };
+  for (std::size_t i = 0; i < 6; ++i)
+    store.writeResult(specs[i], timed(i));
+  store.writeFailure(specs[6], "boom"); // failed, missing and foreign trials: left out
+  const std::string foreign = store.resultPath(specs[7].id).string();
+  store.writeResult(specs[7], timed(7));
+  std::string text = slurp(foreign);
+  text.replace(text.find(specs[7].fingerprint), specs[7].fingerprint.size(), "other");
+  std::ofstream(foreign) << text;
+  // A view's time that is not one: the trial's times are incomplete (its scores stay).
+  store.writeResult(specs[8], timed(8));
+  text = slurp(store.resultPath(specs[8].id));
+  const std::string insert_ms = "\"insert_ms\": 18";
+  const std::size_t at = text.find(insert_ms);
+  ASSERT_NE(at, std::string::npos) << text;
+  text.replace(at, insert_ms.size(), "\"insert_ms\": -18");
+  std::ofstream(store.resultPath(specs[8].id)) << text;
+
+  const std::vector<StoredTrial> trials = store.loadDone(specs);
+  ASSERT_EQ(trials.size(), 7u); // 0-5 and 8
+  EXPECT_EQ(trials[6].id, specs[8].id);
+  EXPECT_EQ(trials[0].times.setup_ms, 0.0);
+  EXPECT_EQ(trials[0].times.plan_ms, 3.0);
+  EXPECT_EQ(trials[0].times.capture_ms, 6.0);
+  EXPECT_EQ(trials[1].times.insert_ms, 33.0);
+  EXPECT_EQ(trials[0].times.eval_ms, 12.0);
+  EXPECT_EQ(trials[1].times.total_ms, 101.0);
+  EXPECT_TRUE(trials[0].times.complete());
+  EXPECT_TRUE(std::isnan(trials[6].times.insert_ms));
+  EXPECT_FALSE(trials[6].times.complete());
+  EXPECT_DOUBLE_EQ(trials[6].views[0][0].f1, 0.5);
+
+  // Trials 0-3 are nbv-leaf-nodes' (totals 100-103: 406), 4 and 5 predefined's (104,
+  // 105: 209), of 615 ms in all.
+  for (std::size_t i = 0; i < 6; ++i)
+    ASSERT_EQ(specs[i].planner, i < 4 ? "nbv-leaf-nodes" : "predefined") << i;
+  const std::vector<TimingRow> rows = campaignTiming(trials);
+  ASSERT_EQ(rows.size(), 2u);
+  EXPECT_EQ(rows[0].planner, "nbv-leaf-nodes");
+  EXPECT_EQ(rows[0].study, "main");
+  EXPECT_EQ(rows[0].trials, 4u);
+  EXPECT_DOUBLE_EQ(rows[0].mean.setup_ms, 1.5);
+  EXPECT_DOUBLE_EQ(rows[0].mean.plan_ms, 3.0);
+  EXPECT_DOUBLE_EQ(rows[0].mean.insert_ms, 3.0 * (10.0 + 1.5));
+  EXPECT_DOUBLE_EQ(rows[0].mean.total_ms, 101.5);
+  EXPECT_DOUBLE_EQ(rows[0].share, 406.0 / 615.0);
+  EXPECT_EQ(rows[1].planner, "predefined");
+  EXPECT_EQ(rows[1].trials, 2u);
+  EXPECT_DOUBLE_EQ(rows[1].mean.setup_ms, 4.5);
+  EXPECT_DOUBLE_EQ(rows[1].mean.capture_ms, 6.0);
+  EXPECT_DOUBLE_EQ(rows[1].mean.eval_ms, 12.0);
+  EXPECT_DOUBLE_EQ(rows[1].mean.total_ms, 104.5);
+  EXPECT_DOUBLE_EQ(rows[1].share, 209.0 / 615.0);
+  EXPECT_TRUE(campaignTiming({}).empty());
+}
+
 TEST_F(CampaignResultsTest, ReportCurvesOfAHandMadeResultsDirectory)
 {
   fs::create_directories(dir_ / "trials");

@@ -519,6 +519,42 @@ std::vector<CurveRow> campaignCurves(const std::vector<StoredTrial>& trials)
   return rows;
 }
 
+std::vector<TimingRow> campaignTiming(const std::vector<StoredTrial>& trials)
+{
+  std::map<GroupKey, TimingRow> groups;
+  double all_ms = 0.0;
+  for (const StoredTrial& t : trials) {
+    if (t.failed || !t.times.complete())
+      continue;
+    TimingRow& row = groups[{t.study, t.variant, t.planner}];
+    if (row.trials == 0) {
+      row.study = t.study;
+      row.variant = t.variant;
+      row.planner = t.planner;
+      row.mean.setup_ms = row.mean.plan_ms = row.mean.capture_ms = 0.0;
+      row.mean.insert_ms = row.mean.eval_ms = row.mean.total_ms = 0.0;
+    }
+    ++row.trials;
+    row.mean.setup_ms += t.times.setup_ms;
+    row.mean.plan_ms += t.times.plan_ms;
+    row.mean.capture_ms += t.times.capture_ms;
+    row.mean.insert_ms += t.times.insert_ms;
+    row.mean.eval_ms += t.times.eval_ms;
+    row.mean.total_ms += t.times.total_ms;
+    all_ms += t.times.total_ms;
+  }
+  std::vector<TimingRow> rows;
+  for (auto& [key, row] : groups) {
+    row.share = all_ms > 0.0 ? row.mean.total_ms / all_ms : 0.0;
+    const double n = double(row.trials);
+    for (double* ms : {&row.mean.setup_ms, &row.mean.plan_ms, &row.mean.capture_ms,
+                       &row.mean.insert_ms, &row.mean.eval_ms, &row.mean.total_ms})
+      *ms /= n;
+    rows.push_back(row);
+  }
+  return rows;
+}
+
 void writeCurvesCsv(const std::filesystem::path& path, const std::vector<CurveRow>& rows)
 {
   AtomicFile file(path);

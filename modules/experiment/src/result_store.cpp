@@ -104,6 +104,16 @@ std::string dumpOrdered(const nlohmann::ordered_json& j)
   return out + "\n";
 }
 
+/// A time of a result file (a key ending in "_ms"): NaN where `object` has none or a
+/// value that is not a time.
+double timeOf(const json& object, const char* key)
+{
+  if (!object.contains(key) || !object[key].is_number())
+    return std::numeric_limits<double>::quiet_NaN();
+  const double ms = object[key].get<double>();
+  return std::isfinite(ms) && ms >= 0.0 ? ms : std::numeric_limits<double>::quiet_NaN();
+}
+
 } // namespace
 
 ResultStore::ResultStore(std::filesystem::path dir) : dir_(std::move(dir)) {}
@@ -267,9 +277,8 @@ TrialState ResultStore::readState(const TrialSpec& spec, double* total_s) const
     if (!isTrialOf(j.value("fingerprint", std::string()), j.contains("fingerprint"),
                    spec))
       return TrialState::foreign;
-    if (total_s && status == "done" && j.contains("total_ms") &&
-        j["total_ms"].is_number() && j["total_ms"].get<double>() >= 0.0)
-      *total_s = j["total_ms"].get<double>() / 1000.0;
+    if (total_s && status == "done")
+      *total_s = timeOf(j, "total_ms") / 1000.0;
     return status == "done"     ? TrialState::done
            : status == "failed" ? TrialState::failed
                                 : TrialState::missing;
@@ -368,6 +377,12 @@ private:
 
 } // namespace
 
+bool TrialTimes::complete() const
+{
+  return std::isfinite(setup_ms) && std::isfinite(plan_ms) && std::isfinite(capture_ms) &&
+         std::isfinite(insert_ms) && std::isfinite(eval_ms) && std::isfinite(total_ms);
+}
+
 StoredTrial ResultStore::loadFile(const std::filesystem::path& path)
 {
   requireRegularFile(path);
@@ -447,7 +462,25 @@ StoredTrial ResultStore::loadFile(const std::filesystem::path& path)
   }
   if (!t.organ_recall.empty() && t.organ_recall.size() != t.views.size())
     r.fail("views", "organ recall in some views and not in others");
+  t.times.setup_ms = timeOf(j, "setup_ms");
+  t.times.total_ms = timeOf(j, "total_ms");
+  t.times.plan_ms = t.times.capture_ms = t.times.insert_ms = t.times.eval_ms = 0.0;
+  for (const json& view : views) {
+    t.times.plan_ms += timeOf(view, "plan_ms");
+    t.times.capture_ms += timeOf(view, "capture_ms");
+    t.times.insert_ms += timeOf(view, "insert_ms");
+    t.times.eval_ms += timeOf(view, "eval_ms");
+  }
   return t;
+}
+
+std::vector<StoredTrial> ResultStore::loadDone(const std::vector<TrialSpec>& specs) const
+{
+  std::vector<StoredTrial> trials;
+  for (const TrialSpec& spec : specs)
+    if (state(spec) == TrialState::done)
+      trials.push_back(loadFile(resultPath(spec.id)));
+  return trials;
 }
 
 std::vector<StoredTrial> ResultStore::load() const

@@ -32,6 +32,23 @@ struct CurveRow {
 /// ("main" first), variant, planner, level (in the trials' order), view.
 std::vector<CurveRow> campaignCurves(const std::vector<StoredTrial>& trials);
 
+/// \brief Where a study variant's planner spends its time: the mean times of its done
+/// trials whose files give every time (TrialTimes::complete), and its share of all
+/// those trials' time.
+struct TimingRow {
+  /// The study, its variant (empty for one variant) and the planner.
+  ///@{
+  std::string study, variant, planner;
+  ///@}
+  std::size_t trials = 0; ///< the trials timed
+  TrialTimes mean;        ///< the means of their times (ms a trial)
+  double share = 0.0;     ///< their summed total_ms over that of every timed trial
+};
+
+/// \brief One row per study variant's planner with a timed trial, in campaignCurves'
+/// order (failed trials and those without every time are left out).
+std::vector<TimingRow> campaignTiming(const std::vector<StoredTrial>& trials);
+
 /// \brief Writes curves.csv: study,variant,planner,level,view, then for each of f1,
 /// precision, recall, chamfer: `<m>_mean,<m>_sd,<m>_n,<m>_ci_low,<m>_ci_high` (95%,
 /// Student's t; empty where undefined). \throws IoError if it cannot.

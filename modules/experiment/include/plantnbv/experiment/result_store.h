@@ -4,6 +4,7 @@
 /// atomically, so that an interrupted campaign resumes with nothing lost or duplicated.
 
 #include <filesystem>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -34,6 +35,24 @@ struct StoreStatus {
   ///@}
 };
 
+/// \brief A trial's times as its file gives them, in milliseconds, each trial's own on
+/// one worker: NaN where the file has none or a value that is not a time (a negative
+/// or not finite number; a file is read for its scores, which its times do not change).
+struct TrialTimes {
+  double setup_ms = std::numeric_limits<double>::quiet_NaN(); ///< scene, ground truth
+  /// The views' phases, summed over the views: planning, capture, insertion,
+  /// evaluation.
+  ///@{
+  double plan_ms = std::numeric_limits<double>::quiet_NaN();
+  double capture_ms = std::numeric_limits<double>::quiet_NaN();
+  double insert_ms = std::numeric_limits<double>::quiet_NaN();
+  double eval_ms = std::numeric_limits<double>::quiet_NaN();
+  ///@}
+  double total_ms = std::numeric_limits<double>::quiet_NaN(); ///< the whole trial
+  /// \brief Whether the file gave every time.
+  bool complete() const;
+};
+
 /// \brief A trial read back from its file (what the report needs).
 struct StoredTrial {
   /// As TrialSpec's fields of the same names (`plant`: the plant's name).
@@ -53,6 +72,7 @@ struct StoredTrial {
   /// [view][organ] recall, organs as evaluatedOrgans(); NaN where the file has null;
   /// empty for files written before organ recall was recorded.
   std::vector<std::vector<double>> organ_recall;
+  TrialTimes times; ///< of a done trial
 };
 
 /// \class ResultStore
@@ -122,6 +142,10 @@ public:
   /// fingerprint is not its trial's (another campaign's result: remove it, or `campaign
   /// run` replaces it), and as load().
   std::vector<StoredTrial> load(const std::vector<TrialSpec>& specs) const;
+  /// \brief The done trials of `specs` (state() done: missing, failed and foreign files
+  /// are left out), in the order of `specs`.
+  /// \throws FormatError naming a done trial's file that loadFile refuses.
+  std::vector<StoredTrial> loadDone(const std::vector<TrialSpec>& specs) const;
   /// \brief One result file, every field of the right type and every score possible:
   /// precision, recall and F1 in [0, 1], Chamfer in [0, kMaxStoredChamferM] metres (or
   /// null), at least one view in a done trial, a level per name.
