@@ -263,8 +263,7 @@ void statusCampaign(const std::string& dir, int workers, bool timing)
     std::cout << "... and " << s.failed_ids.size() - shown << " more failed\n";
   printSlurmSubmissions(dir, std::cout);
   if (timing)
-    printTiming(campaignTiming(ResultStore(dir).loadDone(expandCampaign(f.definition))),
-                std::cout);
+    printTiming(scenario::campaignDirectoryTiming(dir), std::cout);
 }
 
 void reportCampaign(const std::string& dir, std::string out, bool figures)

@@ -215,6 +215,19 @@ py::dict campaignStatus(const Path& dir)
   return statusDict(scenario::campaignDirectoryStatus(dir));
 }
 
+py::list campaignTiming(const Path& dir)
+{
+  py::list rows;
+  for (const TimingRow& r : scenario::campaignDirectoryTiming(dir))
+    rows.append(py::dict("study"_a = r.study, "variant"_a = r.variant,
+                         "planner"_a = r.planner, "trials"_a = r.trials,
+                         "setup_ms"_a = r.mean.setup_ms, "plan_ms"_a = r.mean.plan_ms,
+                         "capture_ms"_a = r.mean.capture_ms,
+                         "insert_ms"_a = r.mean.insert_ms, "eval_ms"_a = r.mean.eval_ms,
+                         "total_ms"_a = r.mean.total_ms, "share"_a = r.share));
+  return rows;
+}
+
 std::vector<Path> campaignReport(const Path& dir, std::optional<Path> out, bool figures)
 {
   py::gil_scoped_release release;
@@ -359,6 +372,11 @@ void bindExperiment(py::module_& m)
       "campaign_status", &campaignStatus, "out_dir"_a,
       "{total, done, failed, missing, foreign, failed_ids, failed_errors} of a campaign "
       "directory.");
+  m.def("campaign_timing", &campaignTiming, "out_dir"_a,
+        "Where the done trials' time goes, as `plantnbv campaign status --timing`: one "
+        "dict per study variant's planner, {study, variant, planner, trials, setup_ms, "
+        "plan_ms, capture_ms, insert_ms, eval_ms, total_ms, share}, the means a trial "
+        "(the views' phases summed) and the share of all done trials' time.");
   m.def("campaign_report", &campaignReport, "out_dir"_a, "out"_a = py::none(),
         "figures"_a = false,
         "Writes curves.csv and summary.md (and with figures=True the PNG figures, which "

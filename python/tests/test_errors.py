@@ -108,6 +108,7 @@ def test_nan_in_boxes_depth_and_origins():
     lambda p: pn.FramesFolder(p / "missing"),
     lambda p: pn.place_plant(model=str(p / "missing.obj")),
     lambda p: pn.campaign_status(p),
+    lambda p: pn.campaign_timing(p),
 ])
 def test_missing_files_are_file_not_found_errors(tmp_path, call):
     with pytest.raises(FileNotFoundError) as e:

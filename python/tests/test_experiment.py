@@ -1,6 +1,7 @@
 """Trials and campaigns from Python: the same steps as the tool's with the same seed."""
 
 import csv
+import json
 import math
 
 import numpy as np
@@ -161,6 +162,17 @@ def test_a_campaign_runs_resumes_and_reports(tmp_path, cli):
                       "failed_errors": []}
     assert events[0] == "started" and events.count("finished") == 4
     assert pn.campaign_status(tmp_path / "run") == status
+    timing = pn.campaign_timing(tmp_path / "run")
+    assert sum(row["trials"] for row in timing) == 4
+    assert sum(row["share"] for row in timing) == pytest.approx(1.0)
+    trials = [json.loads(f.read_text()) for f in (tmp_path / "run" / "trials").glob("*.json")]
+    for row in timing:  # the means of the planner's trial files
+        files = [t for t in trials if t["spec"]["planner"] == row["planner"]]
+        assert row["trials"] == len(files)
+        assert row["total_ms"] == pytest.approx(
+            sum(f["total_ms"] for f in files) / len(files))
+        assert row["insert_ms"] == pytest.approx(
+            sum(v["insert_ms"] for f in files for v in f["views"]) / len(files))
     again = []
     pn.run_campaign(file, tmp_path / "run", progress=lambda p: again.append(p))
     assert again[0]["skipped"] == 4 and again[0]["to_run"] == 0

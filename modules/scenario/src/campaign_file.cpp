@@ -666,17 +666,34 @@ void groupTrialsByScene(std::vector<TrialSpec>& specs)
       });
 }
 
+namespace {
+
+/// The campaign file a campaign directory holds. \throws as campaignDirectoryStatus.
+CampaignFile directoryCampaignFile(const ResultStore& store)
+{
+  if (!std::filesystem::exists(store.definitionPath()))
+    throw FileNotFoundError("'" + store.dir().string() +
+                            "' is not a campaign directory (no campaign.yaml)");
+  return loadCampaignFile(store.definitionPath().string());
+}
+
+} // namespace
+
 StoreStatus campaignDirectoryStatus(const std::filesystem::path& dir, CampaignFile* file)
 {
   const ResultStore store(dir);
-  if (!std::filesystem::exists(store.definitionPath()))
-    throw FileNotFoundError("'" + dir.string() +
-                            "' is not a campaign directory (no campaign.yaml)");
-  CampaignFile f = loadCampaignFile(store.definitionPath().string());
+  CampaignFile f = directoryCampaignFile(store);
   const StoreStatus status = store.status(expandCampaign(f.definition));
   if (file)
     *file = std::move(f);
   return status;
+}
+
+std::vector<TimingRow> campaignDirectoryTiming(const std::filesystem::path& dir)
+{
+  const ResultStore store(dir);
+  return campaignTiming(
+      store.loadDone(expandCampaign(directoryCampaignFile(store).definition)));
 }
 
 } // namespace scenario

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include <plantnbv/experiment/campaign.h>
+#include <plantnbv/experiment/campaign_report.h>
 #include <plantnbv/experiment/campaign_runner.h>
 #include <plantnbv/experiment/result_store.h>
 #include <plantnbv/experiment/trial.h>
@@ -109,6 +110,12 @@ void groupTrialsByScene(std::vector<TrialSpec>& specs);
 /// \throws FileNotFoundError when DIR holds no campaign.yaml; as loadCampaignFile.
 StoreStatus campaignDirectoryStatus(const std::filesystem::path& dir,
                                     CampaignFile* file = nullptr);
+
+/// \brief Where a campaign directory's done trials spend their time (campaignTiming of
+/// its campaign's done trials: `campaign status --timing`, Python's campaign_timing).
+/// \throws as campaignDirectoryStatus; FormatError naming a done trial's file that
+/// ResultStore::loadFile refuses.
+std::vector<TimingRow> campaignDirectoryTiming(const std::filesystem::path& dir);
 
 } // namespace scenario
 } // namespace plantnbv
