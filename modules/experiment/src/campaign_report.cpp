@@ -527,29 +527,22 @@ std::vector<TimingRow> campaignTiming(const std::vector<StoredTrial>& trials)
     if (t.failed || !t.times.complete())
       continue;
     TimingRow& row = groups[{t.study, t.variant, t.planner}];
-    if (row.trials == 0) {
+    if (row.trials++ == 0) {
       row.study = t.study;
       row.variant = t.variant;
       row.planner = t.planner;
-      row.mean.setup_ms = row.mean.plan_ms = row.mean.capture_ms = 0.0;
-      row.mean.insert_ms = row.mean.eval_ms = row.mean.total_ms = 0.0;
+      for (double TrialTimes::*ms : kTrialTimes)
+        row.mean.*ms = 0.0; // sums until the end
     }
-    ++row.trials;
-    row.mean.setup_ms += t.times.setup_ms;
-    row.mean.plan_ms += t.times.plan_ms;
-    row.mean.capture_ms += t.times.capture_ms;
-    row.mean.insert_ms += t.times.insert_ms;
-    row.mean.eval_ms += t.times.eval_ms;
-    row.mean.total_ms += t.times.total_ms;
+    for (double TrialTimes::*ms : kTrialTimes)
+      row.mean.*ms += t.times.*ms;
     all_ms += t.times.total_ms;
   }
   std::vector<TimingRow> rows;
   for (auto& [key, row] : groups) {
     row.share = all_ms > 0.0 ? row.mean.total_ms / all_ms : 0.0;
-    const double n = double(row.trials);
-    for (double* ms : {&row.mean.setup_ms, &row.mean.plan_ms, &row.mean.capture_ms,
-                       &row.mean.insert_ms, &row.mean.eval_ms, &row.mean.total_ms})
-      *ms /= n;
+    for (double TrialTimes::*ms : kTrialTimes)
+      row.mean.*ms /= double(row.trials);
     rows.push_back(row);
   }
   return rows;

@@ -379,8 +379,8 @@ private:
 
 bool TrialTimes::complete() const
 {
-  return std::isfinite(setup_ms) && std::isfinite(plan_ms) && std::isfinite(capture_ms) &&
-         std::isfinite(insert_ms) && std::isfinite(eval_ms) && std::isfinite(total_ms);
+  return std::all_of(kTrialTimes.begin(), kTrialTimes.end(),
+                     [this](double TrialTimes::*ms) { return std::isfinite(this->*ms); });
 }
 
 StoredTrial ResultStore::loadFile(const std::filesystem::path& path)
