@@ -81,7 +81,11 @@ TEST(RegionRayMask, EveryPixelWhereTheRaysMayLeaveTheRegionsBounds)
                                                   Eigen::Vector3d::Constant(1.0)));
   // No brick: no pixel while the rays stay within the bounds, every pixel once they may
   // leave them (the space outside is all in the region), whichever way the camera looks.
+  // The bounds are the bricks' (8 cm): 1.04 m here.
+  double lo[3], hi[3];
+  region.getBounds(lo, hi);
   const Pose T_W_O(Eigen::Vector3d(0.5, 0.0, 0.0), Eigen::Quaterniond::Identity());
-  EXPECT_EQ(regionRayMask(region, K, T_W_O, 0.45).pixelCount(), 0u);
-  EXPECT_EQ(regionRayMask(region, K, T_W_O, 0.55).pixelCount(), all_pixels);
+  const double to_bound = hi[0] - 0.5;
+  EXPECT_EQ(regionRayMask(region, K, T_W_O, to_bound - 0.01).pixelCount(), 0u);
+  EXPECT_EQ(regionRayMask(region, K, T_W_O, to_bound + 0.01).pixelCount(), all_pixels);
 }
